@@ -1,0 +1,32 @@
+#pragma once
+#include <cstdint>
+
+namespace carril::fw {
+
+// Run-time faults. Each one latches, brings the robot to a safe stop and is counted.
+enum class Fault : std::uint8_t {
+  None,
+  CameraTimeout,       // no new camera frame within camera_timeout_s
+  CameraBadFrame,      // frame size differs from the configured camera
+  ScannerTimeout,      // no new lidar scan within lidar.timeout_s
+  DriveFault,          // a wheel drive reports Fault (its code is in the event)
+  DriveEnableTimeout,  // drives did not reach Operation enabled in time
+  LineNotFound,        // a full search turn found no tape
+  Count,
+};
+
+inline const char* fault_name(Fault f) {
+  switch (f) {
+    case Fault::None: return "none";
+    case Fault::CameraTimeout: return "camera_timeout";
+    case Fault::CameraBadFrame: return "camera_bad_frame";
+    case Fault::ScannerTimeout: return "scanner_timeout";
+    case Fault::DriveFault: return "drive_fault";
+    case Fault::DriveEnableTimeout: return "drive_enable_timeout";
+    case Fault::LineNotFound: return "line_not_found";
+    case Fault::Count: break;
+  }
+  return "?";
+}
+
+}  // namespace carril::fw

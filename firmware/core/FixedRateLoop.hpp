@@ -1,0 +1,47 @@
+#pragma once
+// Runs a step function at a fixed rate on absolute deadlines (next += period), so jitter and
+// overruns do not accumulate into drift. An overrun (a step finishing after its next deadline)
+// is counted and the schedule skips the missed periods instead of bursting to catch up.
+#include <cstdint>
+
+#include "hal/Clock.hpp"
+
+namespace carril::fw {
+
+struct LoopStats {
+  std::uint64_t periods = 0;
+  std::uint64_t missed_deadlines = 0;  // periods skipped because a step overran
+};
+
+class FixedRateLoop {
+ public:
+  FixedRateLoop(hal::Clock& clock, hal::TimeNs period_ns) : clock_(clock), period_ns_(period_ns) {}
+
+  // Calls step(ctx) every period until it returns false or max_periods have run (0 = no limit).
+  template <typename Step>
+  LoopStats run(Step&& step, std::uint64_t max_periods = 0) {
+    LoopStats st;
+    hal::TimeNs next = clock_.now_ns();
+    while (max_periods == 0 || st.periods < max_periods) {
+      const bool go_on = step();
+      ++st.periods;
+      if (!go_on) break;
+      next += period_ns_;
+      const hal::TimeNs now = clock_.now_ns();
+      if (now > next) {
+        const hal::TimeNs late = now - next;
+        const auto skipped = static_cast<std::uint64_t>(late / period_ns_) + 1;
+        st.missed_deadlines += skipped;
+        next += static_cast<hal::TimeNs>(skipped) * period_ns_;
+      }
+      clock_.sleep_until_ns(next);
+    }
+    return st;
+  }
+
+ private:
+  hal::Clock& clock_;
+  hal::TimeNs period_ns_;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,110 @@
+#include "hal/sim/SimDevices.hpp"
+
+#include <cassert>
+#include <chrono>
+
+namespace carril::hal {
+
+TimeNs SimClock::cpu_now_ns() const {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+SimCamera::SimCamera() : frame_(std::make_unique<CameraFrame>()) {}
+
+const CameraFrame* SimCamera::latest() {
+  if (seq_ == 0 || fault_ == SimSensorFault::Silent) return nullptr;
+  return frame_.get();
+}
+
+void SimCamera::publish(TimeNs stamp_ns) {
+  if (fault_ == SimSensorFault::Silent) return;
+  frame_->stamp_ns = stamp_ns;
+  frame_->seq = ++seq_;
+  if (fault_ == SimSensorFault::WrongSize) {
+    // Half the configured size, same buffer: what a misconfigured capture driver delivers.
+    frame_->width = static_cast<std::uint16_t>(frame_->width / 2);
+    frame_->height = static_cast<std::uint16_t>(frame_->height / 2);
+  }
+}
+
+SimRangeScanner::SimRangeScanner() : scan_(std::make_unique<LaserScan>()) {}
+
+const LaserScan* SimRangeScanner::latest() {
+  if (seq_ == 0 || fault_ == SimSensorFault::Silent) return nullptr;
+  return scan_.get();
+}
+
+void SimRangeScanner::publish(TimeNs stamp_ns) {
+  if (fault_ == SimSensorFault::Silent) return;
+  scan_->stamp_ns = stamp_ns;
+  scan_->seq = ++seq_;
+}
+
+SimWheelDrives::SimWheelDrives(int count) : count_(count) {
+  assert(count > 0 && count <= kMaxWheels);
+  fb_.count = static_cast<std::uint8_t>(count);
+}
+
+void SimWheelDrives::enable() { enable_requested_ = true; }
+
+void SimWheelDrives::disable() {
+  enable_requested_ = false;
+  for (int i = 0; i < count_; ++i) {
+    if (fb_.wheel[i].state != DriveState::Fault) fb_.wheel[i].state = DriveState::Disabled;
+  }
+}
+
+void SimWheelDrives::quick_stop() {
+  enable_requested_ = false;
+  ++quick_stops_;
+  for (int i = 0; i < count_; ++i) {
+    if (fb_.wheel[i].state != DriveState::Fault) fb_.wheel[i].state = DriveState::QuickStop;
+  }
+}
+
+void SimWheelDrives::reset_faults() {
+  for (int i = 0; i < count_; ++i) {
+    if (fb_.wheel[i].state == DriveState::Fault) {
+      fb_.wheel[i].state = DriveState::Disabled;
+      fb_.wheel[i].fault = DriveFault::None;
+    }
+  }
+}
+
+void SimWheelDrives::set_velocity(const float* radps, int n) {
+  assert(n == count_);
+  for (int i = 0; i < n && i < kMaxWheels; ++i) setpoint_[i] = radps[i];
+}
+
+void SimWheelDrives::read(WheelFeedbackSet& out) const { out = fb_; }
+
+void SimWheelDrives::sync(float* target_radps) {
+  for (int i = 0; i < count_; ++i) {
+    WheelFeedback& w = fb_.wheel[i];
+    if (enable_requested_) {
+      if (w.state == DriveState::Disabled || w.state == DriveState::QuickStop) {
+        w.state = DriveState::Enabling;
+      } else if (w.state == DriveState::Enabling) {
+        w.state = DriveState::Enabled;
+      }
+    }
+    target_radps[i] = (w.state == DriveState::Enabled) ? setpoint_[i] : 0.0F;
+  }
+}
+
+void SimWheelDrives::set_feedback(int wheel, TimeNs stamp_ns, float velocity_radps,
+                                  double position_rad) {
+  WheelFeedback& w = fb_.wheel[wheel];
+  w.stamp_ns = stamp_ns;
+  w.velocity_radps = velocity_radps;
+  w.position_rad = position_rad;
+}
+
+void SimWheelDrives::inject_fault(int wheel, DriveFault code) {
+  fb_.wheel[wheel].state = DriveState::Fault;
+  fb_.wheel[wheel].fault = code;
+}
+
+}  // namespace carril::hal

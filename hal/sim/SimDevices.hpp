@@ -1,0 +1,106 @@
+#pragma once
+// In-process simulator backend. The simulator writes sensor data and reads setpoints here in
+// lockstep with the physics; the firmware sees only the hal interfaces. No physics in here.
+#include <memory>
+
+#include "hal/Camera.hpp"
+#include "hal/Clock.hpp"
+#include "hal/Imu.hpp"
+#include "hal/RangeScanner.hpp"
+#include "hal/WheelDrives.hpp"
+
+namespace carril::hal {
+
+// Loop time is the simulated time the simulator sets; compute time is real.
+class SimClock final : public Clock {
+ public:
+  TimeNs now_ns() const override { return now_ns_; }
+  TimeNs cpu_now_ns() const override;
+  // Lockstep: the simulator owns time, so waiting is a jump to the deadline.
+  void sleep_until_ns(TimeNs t) override {
+    if (t > now_ns_) now_ns_ = t;
+  }
+  // Simulator side: the physics has reached t [ns].
+  void set_now_ns(TimeNs t) { now_ns_ = t; }
+
+ private:
+  TimeNs now_ns_ = 0;
+};
+
+enum class SimSensorFault : std::uint8_t {
+  None,
+  Silent,     // the device stops delivering (unplugged cable, dead driver)
+  WrongSize,  // camera only: frames arrive with a size the firmware was not configured for
+};
+
+class SimCamera final : public Camera {
+ public:
+  SimCamera();
+  const CameraFrame* latest() override;
+  // Simulator side: the buffer to render into, then publish() it with its stamp.
+  CameraFrame& back_buffer() { return *frame_; }
+  void publish(TimeNs stamp_ns);
+  void inject_fault(SimSensorFault f) { fault_ = f; }
+
+ private:
+  std::unique_ptr<CameraFrame> frame_;  // sized once at construction (3.7 MB)
+  std::uint32_t seq_ = 0;
+  SimSensorFault fault_ = SimSensorFault::None;
+};
+
+class SimRangeScanner final : public RangeScanner {
+ public:
+  SimRangeScanner();
+  const LaserScan* latest() override;
+  LaserScan& back_buffer() { return *scan_; }
+  void publish(TimeNs stamp_ns);
+  void inject_fault(SimSensorFault f) { fault_ = f; }
+
+ private:
+  std::unique_ptr<LaserScan> scan_;
+  std::uint32_t seq_ = 0;
+  SimSensorFault fault_ = SimSensorFault::None;
+};
+
+class SimImu final : public Imu {
+ public:
+  ImuSample read() override { return fault_ ? ImuSample{} : sample_; }
+  void publish(const ImuSample& s) { sample_ = s; }
+  void inject_fault(bool silent) { fault_ = silent; }
+
+ private:
+  ImuSample sample_{};
+  bool fault_ = false;
+};
+
+// Emulates the drive side of the CiA 402 state machine: enable takes one bus sync, quick stop
+// and faults latch, setpoints only count while Enabled.
+class SimWheelDrives final : public WheelDrives {
+ public:
+  explicit SimWheelDrives(int count);
+  int count() const override { return count_; }
+  void enable() override;
+  void disable() override;
+  void quick_stop() override;
+  void reset_faults() override;
+  void set_velocity(const float* radps, int n) override;
+  void read(WheelFeedbackSet& out) const override;
+
+  // Simulator side, once per bus sync: advance the state machine; returns the velocity each
+  // wheel motor is asked for (zero unless Enabled) [rad/s].
+  void sync(float* target_radps);
+  // Simulator side: what the wheels actually did.
+  void set_feedback(int wheel, TimeNs stamp_ns, float velocity_radps, double position_rad);
+  void inject_fault(int wheel, DriveFault code);
+  DriveState state(int wheel) const { return fb_.wheel[wheel].state; }
+  int quick_stop_requests() const { return quick_stops_; }
+
+ private:
+  int count_;
+  WheelFeedbackSet fb_{};
+  std::array<float, kMaxWheels> setpoint_{};
+  bool enable_requested_ = false;
+  int quick_stops_ = 0;
+};
+
+}  // namespace carril::hal

@@ -1,0 +1,33 @@
+#pragma once
+#include <string>
+
+#include "host_sim/scenario/Scenario.hpp"
+
+namespace carril::sim {
+
+// Result of loading: either a scenario, or one error message of the form
+//   "<file>: <key.path[2].field>: expected <what>, got <what>"
+struct LoadResult {
+  bool ok = false;
+  Scenario scenario;
+  std::string error;
+};
+
+// Reads a scenario file strictly (unknown, missing, mistyped and out-of-range keys are errors)
+// and merges it onto its robot preset, read from <robots_dir>/<preset>.yaml.
+LoadResult load_scenario(const std::string& path, const std::string& robots_dir);
+
+// Same, from text already in memory; `path` is only used in messages.
+LoadResult load_scenario_text(const std::string& text, const std::string& path,
+                              const std::string& robots_dir);
+
+// Reads one robot preset file strictly.
+bool load_robot_preset(const std::string& path, RobotSpec& out, std::string& error);
+
+// Default robots directory: $CARRIL_ROBOTS_DIR, else the source tree's config/robots.
+std::string default_robots_dir();
+
+// Named colours: white, black, red, green, blue, yellow.
+bool color_from_name(const std::string& name, Rgb& out);
+
+}  // namespace carril::sim
