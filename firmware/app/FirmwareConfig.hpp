@@ -42,7 +42,7 @@ struct FirmwareConfig {
   } mission;
 
   struct Follower {
-    double lookahead_m = 0.0;           // pursuit distance from the robot centre; 0 = centre of view [m]
+    double lookahead_m = 0.0;           // pursuit distance from the robot centre; 0 = near edge of view [m]
     double curvature_slowdown_m = 0.6;  // v = cruise / (1 + this * |curvature|)
     double search_yaw_rate_radps = 0.6; // turn rate while looking for a lost line [rad/s]
     double search_max_turn_rad = 6.6;   // give up (fault) after turning this far [rad]

@@ -12,11 +12,11 @@ namespace carril::sim {
 // What the simulator knows about one tick after the firmware ran and the physics advanced.
 struct TickSample {
   double t_s = 0.0;
-  Pose2 pose;                                   // true pose in the world
-  double vx_mps = 0.0, vy_mps = 0.0;            // true body-frame velocity [m/s]
-  double wz_radps = 0.0;                        // true yaw rate [rad/s]
-  bool following = false;                       // the firmware is in a line-following state
-  bool in_end_state = false;                    // the firmware is in its END state
+  Pose2 pose;                         // true pose in the world
+  double vx_mps = 0.0, vy_mps = 0.0;  // true body-frame velocity [m/s]
+  double wz_radps = 0.0;              // true yaw rate [rad/s]
+  bool following = false;             // the firmware is in a line-following state
+  bool in_end_state = false;          // the firmware is in its END state
 };
 
 class RunMetrics {

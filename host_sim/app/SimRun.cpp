@@ -1,0 +1,190 @@
+#include "host_sim/app/SimRun.hpp"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdio>
+
+#include "host_sim/alloc/AllocCounter.hpp"
+
+namespace carril::sim {
+
+namespace {
+hal::TimeNs period_ns(double hz) { return static_cast<hal::TimeNs>(std::llround(1e9 / hz)); }
+
+std::string format_event(const fw::Event& e) {
+  char buf[160];
+  const double t = double(e.t_ns) * 1e-9;
+  if (e.kind == fw::EventKind::Fault) {
+    std::snprintf(buf, sizeof buf, "%9.3f s  FAULT %s (code 0x%04X) in %s: safe stop", t,
+                  fw::fault_name(e.fault), unsigned(e.code), fw::state_name(e.from));
+  } else {
+    std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from), fw::state_name(e.to));
+  }
+  return buf;
+}
+}  // namespace
+
+SimRun::SimRun(const Scenario& scenario, std::uint64_t seed)
+    : scenario_(scenario),
+      topo_(scenario, seed),
+      metrics_(scenario),
+      period_s_(1.0 / scenario.robot.control_rate_hz),
+      period_ns_(period_ns(scenario.robot.control_rate_hz)),
+      cam_period_ns_(period_ns(scenario.robot.camera.rate_hz)),
+      scan_period_ns_(period_ns(scenario.robot.lidar.rate_hz)),
+      alloc_base_(alloc::count_in_windows()) {
+  rows_.reserve(std::size_t(scenario.duration_s * scenario.robot.control_rate_hz) + 16);
+}
+
+const char* SimRun::state_name() const { return fw::state_name(topo_.controller->state()); }
+
+std::uint64_t SimRun::allocations_in_ticks() const { return alloc::count_in_windows() - alloc_base_; }
+
+void SimRun::publish_sensors(hal::TimeNs t) {
+  SimWorld& w = topo_.world;
+  if (t >= next_cam_ns_) {
+    topo_.camera_renderer.render(w.pose(), topo_.camera.back_buffer());
+    topo_.camera.publish(t);
+    next_cam_ns_ += cam_period_ns_;
+  }
+  if (t >= next_scan_ns_) {
+    topo_.lidar.scan(w, topo_.scanner.back_buffer());
+    topo_.scanner.publish(t);
+    next_scan_ns_ += scan_period_ns_;
+  }
+  double vx = 0, vy = 0, wz = 0;
+  w.body_velocity(vx, vy, wz);
+  hal::ImuSample imu;
+  imu.stamp_ns = t;
+  imu.valid = true;
+  imu.yaw_rate_radps = float(wz);  // flat floor: roll and pitch stay zero until terrain is modelled
+  topo_.imu.publish(imu);
+  for (int i = 0; i < w.wheel_count(); ++i) {
+    topo_.drives.set_feedback(i, t, w.wheel_speed(i), w.wheel_position(i));
+  }
+}
+
+bool SimRun::step() {
+  if (finished()) return false;
+  const hal::TimeNs t = hal::TimeNs(tick_) * period_ns_;
+  topo_.clock.set_now_ns(t);
+  publish_sensors(t);
+
+  // The firmware's tick: nothing in here may touch the heap.
+  Eigen::internal::set_is_malloc_allowed(false);
+  alloc::begin_window();
+  topo_.app.step();
+  alloc::end_window();
+  Eigen::internal::set_is_malloc_allowed(true);
+
+  // Bus sync: the drives take the setpoints; the physics runs one period in two sub-steps.
+  float target[hal::kMaxWheels] = {};
+  topo_.drives.sync(target);
+  topo_.world.set_wheel_targets(target);
+  topo_.world.step(period_s_ / 2);
+  topo_.world.step(period_s_ / 2);
+  ++tick_;
+
+  // Score the state reached at the end of this period.
+  const fw::MissionState st = topo_.controller->state();
+  TickSample s;
+  s.t_s = sim_time_s();
+  s.pose = topo_.world.pose();
+  topo_.world.body_velocity(s.vx_mps, s.vy_mps, s.wz_radps);
+  s.following = st == fw::MissionState::Follow;
+  s.in_end_state = st == fw::MissionState::End;
+  const double ct = metrics_.add(s);
+  rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps, fw::state_name(st), ct});
+  for (const ContactStart& c : topo_.world.take_new_contacts()) {
+    metrics_.add_collision();
+    collisions_.push_back({s.t_s, c.x, c.y});
+  }
+  drain_events();
+
+  if (metrics_.end_reached()) {
+    result_ = "end_reached";
+  } else if (st == fw::MissionState::Fault) {
+    // Keep simulating for a second so the quick stop shows in the trajectory.
+    if (fault_at_s_ < 0) fault_at_s_ = s.t_s;
+    if (s.t_s - fault_at_s_ >= 1.0) result_ = "fault";
+  } else if (s.t_s >= scenario_.duration_s - 1e-9) {
+    result_ = "time_limit";
+  }
+  return !finished();
+}
+
+void SimRun::abort() {
+  if (!finished()) result_ = "aborted";
+}
+
+void SimRun::drain_events() {
+  fw::Event e;
+  while (topo_.controller->events().pop(e)) log_.push_back(format_event(e));
+}
+
+std::vector<std::string> SimRun::take_log() {
+  std::vector<std::string> out;
+  out.swap(log_);
+  return out;
+}
+
+RunSummary SimRun::summary(double wall_time_s) {
+  fw::Controller& ctl = *topo_.controller;
+  ctl.refresh_telemetry();
+  const fw::Telemetry& tel = ctl.telemetry();
+  RunSummary r;
+  r.scenario = scenario_.name;
+  r.result = finished() ? result_ : "aborted";
+  r.sim_time_s = sim_time_s();
+  r.wall_time_s = wall_time_s;
+  r.real_time_factor = wall_time_s > 0 ? r.sim_time_s / wall_time_s : 0.0;
+  r.ticks = long(tick_);
+  r.tick_period_s = period_s_;
+  r.tick_overruns = long(tel.tick_overruns);
+  r.tick_compute_p50_us = tel.tick_p50_us;
+  r.tick_compute_p99_us = tel.tick_p99_us;
+  r.tick_compute_max_us = tel.tick_max_us;
+  r.heap_allocations_after_init = long(allocations_in_ticks());
+  r.collisions = metrics_.collisions();
+  r.progress = metrics_.progress();
+  r.laps = metrics_.laps();
+  r.cross_track_rms_m = metrics_.cross_track_rms_m();
+  r.cross_track_max_m = metrics_.cross_track_max_m();
+  r.line_lost_events = int(tel.line_lost_events);
+  r.line_reacquired_events = int(tel.line_reacquired_events);
+  r.obstacles_avoided = int(tel.obstacles_avoided);
+  r.end_reached = metrics_.end_reached();
+  r.end_stop_error_m = metrics_.end_stop_error_m();
+  r.path_length_m = metrics_.path_length_m();
+  r.mean_speed_mps = metrics_.mean_speed_mps();
+  r.max_abs_wz_radps = metrics_.max_abs_wz_radps();
+  r.final_state = fw::state_name(tel.state);
+  if (tel.fault != fw::Fault::None) r.fault = fw::fault_name(tel.fault);
+
+  // Expectations. A run that faulted or was aborted never passes.
+  auto miss = [&](const char* fmt, double want, double got) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, fmt, want, got);
+    r.unmet_expectations.emplace_back(buf);
+  };
+  const ExpectSpec& x = scenario_.expect;
+  if (r.result == "fault") r.unmet_expectations.push_back("run ended in fault " + r.fault);
+  if (r.result == "aborted") r.unmet_expectations.emplace_back("run was aborted");
+  if (x.end_reached && *x.end_reached != r.end_reached) {
+    miss("end_reached: expected %.0f, got %.0f", *x.end_reached ? 1.0 : 0.0, r.end_reached ? 1.0 : 0.0);
+  }
+  if (x.max_collisions && r.collisions > *x.max_collisions) {
+    miss("max_collisions: expected <= %.0f, got %.0f", *x.max_collisions, r.collisions);
+  }
+  if (x.max_cross_track_rms_m && !(r.cross_track_rms_m <= *x.max_cross_track_rms_m)) {
+    miss("max_cross_track_rms_m: expected <= %.4f, got %.4f", *x.max_cross_track_rms_m, r.cross_track_rms_m);
+  }
+  if (x.min_progress && r.progress < *x.min_progress - 1e-9) {
+    miss("min_progress: expected >= %.3f, got %.3f", *x.min_progress, r.progress);
+  }
+  if (x.min_laps && r.laps < *x.min_laps) miss("min_laps: expected >= %.0f, got %.0f", *x.min_laps, r.laps);
+  r.passed = r.unmet_expectations.empty();
+  return r;
+}
+
+}  // namespace carril::sim

@@ -1,0 +1,59 @@
+#pragma once
+// One simulated run in lockstep: each tick the simulator publishes the sensors that are due,
+// runs one firmware step (inside an allocation-counting window), applies the drive setpoints,
+// advances the physics by one period and scores the result.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host_sim/app/SimTopology.hpp"
+#include "host_sim/metrics/RunMetrics.hpp"
+#include "host_sim/output/RunOutputs.hpp"
+#include "host_sim/scenario/Scenario.hpp"
+
+namespace carril::sim {
+
+class SimRun {
+ public:
+  SimRun(const Scenario& scenario, std::uint64_t seed);
+
+  // One tick. Returns false once the run has finished (end reached, time limit, fault).
+  bool step();
+  // Stop now (Ctrl-C); the run finishes as "aborted".
+  void abort();
+  bool finished() const { return !result_.empty(); }
+
+  // The summary of the run so far, with the wall time it took.
+  RunSummary summary(double wall_time_s);
+
+  double sim_time_s() const { return double(tick_) * period_s_; }
+  double progress() const { return metrics_.progress(); }
+  const char* state_name() const;
+  const std::vector<TrajectoryRow>& rows() const { return rows_; }
+  const std::vector<CollisionPoint>& collisions() const { return collisions_; }
+  // Firmware events (state changes, faults) as log lines, since the last call.
+  std::vector<std::string> take_log();
+  SimTopology& topology() { return topo_; }
+  const Scenario& scenario() const { return scenario_; }
+  std::uint64_t allocations_in_ticks() const;
+
+ private:
+  void publish_sensors(hal::TimeNs t);
+  void drain_events();
+
+  const Scenario& scenario_;
+  SimTopology topo_;
+  RunMetrics metrics_;
+  double period_s_;
+  hal::TimeNs period_ns_, cam_period_ns_, scan_period_ns_;
+  hal::TimeNs next_cam_ns_ = 0, next_scan_ns_ = 0;
+  std::uint64_t tick_ = 0;
+  std::uint64_t alloc_base_ = 0;
+  double fault_at_s_ = -1.0;
+  std::string result_;  // empty while running
+  std::vector<TrajectoryRow> rows_;
+  std::vector<CollisionPoint> collisions_;
+  std::vector<std::string> log_;
+};
+
+}  // namespace carril::sim

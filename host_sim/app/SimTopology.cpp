@@ -1,0 +1,48 @@
+#include "host_sim/app/SimTopology.hpp"
+
+#include <cmath>
+
+namespace carril::sim {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+fw::Rgb8 rgb8(Rgb c) { return {c.r, c.g, c.b}; }
+}  // namespace
+
+fw::FirmwareConfig firmware_config(const Scenario& s) {
+  const RobotSpec& r = s.robot;
+  fw::FirmwareConfig c;
+  c.rate_hz = r.control_rate_hz;
+  c.drive = drive_geometry(r);
+  c.footprint_length_m = r.length_m;
+  c.footprint_width_m = r.width_m;
+  c.limits.max_speed_mps = r.limits.max_speed_mps;
+  c.limits.max_yaw_rate_radps = r.limits.max_yaw_rate_radps;
+  c.limits.max_accel_mps2 = r.limits.max_accel_mps2;
+  c.limits.max_wheel_speed_radps = r.limits.max_wheel_speed_radps;
+  c.camera = camera_mount(r.camera);
+  // Three missed frames in a row is a dead camera.
+  c.camera_timeout_s = std::max(0.2, 3.0 / r.camera.rate_hz);
+  c.lidar.present = true;
+  c.lidar.x_m = r.lidar.x_m;
+  c.lidar.y_m = r.lidar.y_m;
+  c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
+  c.lidar.timeout_s = std::max(0.5, 5.0 / r.lidar.rate_hz);
+  c.mission.line_color = rgb8(s.mission.line_color);
+  c.mission.end_color = rgb8(s.mission.end_color);
+  c.mission.speed_mps = s.mission.speed_mps;
+  return c;
+}
+
+SimTopology::SimTopology(const Scenario& s, std::uint64_t seed)
+    : scenario(s),
+      world(s),
+      camera_renderer(s, seed),
+      lidar(s.robot.lidar, seed),
+      drives(world.wheel_count()),
+      devices{clock, drives, camera, scanner, imu},
+      config(firmware_config(s)),
+      controller(std::make_unique<fw::Controller>(config, clock)),
+      app(devices, *controller) {}
+
+}  // namespace carril::sim

@@ -1,0 +1,43 @@
+#pragma once
+// The simulator target's wiring: every object of a simulated robot, created and connected here,
+// top to bottom in the order data flows (world -> sensors -> HAL -> firmware -> drives -> world).
+#include <cstdint>
+#include <memory>
+
+#include "firmware/app/Controller.hpp"
+#include "firmware/app/FirmwareApp.hpp"
+#include "firmware/app/FirmwareConfig.hpp"
+#include "hal/Devices.hpp"
+#include "hal/sim/SimDevices.hpp"
+#include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/sensors/CameraRenderer.hpp"
+#include "host_sim/sensors/LidarSim.hpp"
+#include "host_sim/world/SimWorld.hpp"
+
+namespace carril::sim {
+
+// Firmware configuration for the robot and mission a scenario describes.
+fw::FirmwareConfig firmware_config(const Scenario& s);
+
+struct SimTopology {
+  SimTopology(const Scenario& scenario, std::uint64_t seed);
+
+  const Scenario& scenario;
+  // The physical world and the simulated sensors that observe it.
+  SimWorld world;
+  CameraRenderer camera_renderer;
+  LidarSim lidar;
+  // The HAL backends the firmware sees (filled by the simulator in lockstep).
+  hal::SimClock clock;
+  hal::SimCamera camera;
+  hal::SimRangeScanner scanner;
+  hal::SimImu imu;
+  hal::SimWheelDrives drives;
+  hal::Devices devices;
+  // The firmware.
+  fw::FirmwareConfig config;
+  std::unique_ptr<fw::Controller> controller;  // large (latency histograms): on the heap, at init
+  fw::FirmwareApp app;
+};
+
+}  // namespace carril::sim

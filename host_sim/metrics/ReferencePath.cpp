@@ -1,0 +1,143 @@
+#include "host_sim/metrics/ReferencePath.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace carril::sim {
+namespace {
+
+constexpr double kDuplicateM = 1e-3;  // consecutive points closer than this are one point
+constexpr double kClosedM = 0.01;     // last point this close to the first: a loop
+
+double dist(Vec2 a, Vec2 b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+
+}  // namespace
+
+ReferencePath::ReferencePath(const Scenario& scenario) {
+  for (const LineSpec& line : scenario.lines) {
+    if (!(line.color == scenario.mission.line_color)) continue;
+    for (const Vec2& p : line.points) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+      if (!pts_.empty() && dist(pts_.back(), p) < kDuplicateM) continue;
+      pts_.push_back(p);
+    }
+  }
+  if (pts_.size() < 2) {
+    pts_.clear();
+    return;
+  }
+  if (pts_.size() >= 3 && dist(pts_.back(), pts_.front()) < kClosedM) {
+    closed_ = true;
+    // Make the loop exact so that at(L) == at(0) and the wrap is seamless.
+    if (dist(pts_.back(), pts_.front()) < kDuplicateM) {
+      pts_.back() = pts_.front();
+    } else {
+      pts_.push_back(pts_.front());
+    }
+  }
+  cum_.reserve(pts_.size());
+  cum_.push_back(0.0);
+  for (std::size_t i = 1; i < pts_.size(); ++i)
+    cum_.push_back(cum_.back() + dist(pts_[i - 1], pts_[i]));
+}
+
+PathPoint ReferencePath::nearest(Vec2 q) const {
+  if (empty()) return PathPoint{0.0, 0.0, q};
+  PathPoint best{0.0, 0.0, pts_.front()};
+  best.dist_m = dist(q, pts_.front());
+  for (std::size_t i = 0; i + 1 < pts_.size(); ++i) {
+    const Vec2 a = pts_[i], b = pts_[i + 1];
+    const double seg = cum_[i + 1] - cum_[i];
+    if (!(seg > 0.0)) continue;
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double t = std::clamp(((q.x - a.x) * dx + (q.y - a.y) * dy) / (seg * seg), 0.0, 1.0);
+    const Vec2 p{a.x + t * dx, a.y + t * dy};
+    const double d = dist(q, p);
+    if (d < best.dist_m) best = PathPoint{cum_[i] + t * seg, d, p};
+  }
+  if (closed_ && best.s_m >= length_m()) best.s_m -= length_m();
+  return best;
+}
+
+PathPoint ReferencePath::nearest_in(Vec2 q, double s_from, double s_to) const {
+  if (empty()) return PathPoint{0.0, 0.0, q};
+  const double len = length_m();
+  if (!std::isfinite(s_from) || !std::isfinite(s_to)) return nearest(q);
+
+  // Searches arc lengths [a, b] (both within [0, len]); keeps the first minimum, so ties favour
+  // the smaller arc length (staying put rather than jumping ahead).
+  auto search = [&](double a, double b, PathPoint& best, bool& found) {
+    // First segment whose end reaches a.
+    std::size_t i =
+        static_cast<std::size_t>(std::lower_bound(cum_.begin(), cum_.end(), a) - cum_.begin());
+    if (i > 0) --i;
+    for (; i + 1 < pts_.size() && cum_[i] <= b; ++i) {
+      const double seg = cum_[i + 1] - cum_[i];
+      if (!(seg > 0.0)) continue;
+      const Vec2 pa = pts_[i], pb = pts_[i + 1];
+      const double dx = pb.x - pa.x, dy = pb.y - pa.y;
+      const double t_lo = std::clamp((a - cum_[i]) / seg, 0.0, 1.0);
+      const double t_hi = std::clamp((b - cum_[i]) / seg, 0.0, 1.0);
+      if (t_lo > t_hi) continue;
+      const double t =
+          std::clamp(((q.x - pa.x) * dx + (q.y - pa.y) * dy) / (seg * seg), t_lo, t_hi);
+      const Vec2 p{pa.x + t * dx, pa.y + t * dy};
+      const double d = dist(q, p);
+      if (!found || d < best.dist_m) {
+        best = PathPoint{cum_[i] + t * seg, d, p};
+        found = true;
+      }
+    }
+  };
+
+  PathPoint best;
+  bool found = false;
+  if (closed_) {
+    const double span = std::clamp(s_to - s_from, 0.0, len);
+    double a = std::fmod(s_from, len);
+    if (a < 0.0) a += len;
+    if (a + span <= len) {
+      search(a, a + span, best, found);
+    } else {
+      search(a, len, best, found);
+      search(0.0, a + span - len, best, found);
+    }
+    if (found && best.s_m >= len) best.s_m -= len;
+  } else {
+    const double a = std::clamp(s_from, 0.0, len);
+    const double b = std::clamp(s_to, a, len);
+    search(a, b, best, found);
+  }
+  if (!found) {
+    const Vec2 p = at(s_from);
+    return PathPoint{
+        closed_ ? std::fmod(std::fmod(s_from, len) + len, len) : std::clamp(s_from, 0.0, len),
+        dist(q, p), p};
+  }
+  return best;
+}
+
+Vec2 ReferencePath::at(double s) const {
+  if (pts_.empty()) return Vec2{};
+  if (empty()) return pts_.front();
+  const double len = length_m();
+  if (!std::isfinite(s)) s = 0.0;
+  if (closed_) {
+    s = std::fmod(s, len);
+    if (s < 0.0) s += len;
+  } else {
+    s = std::clamp(s, 0.0, len);
+  }
+  std::size_t i =
+      static_cast<std::size_t>(std::upper_bound(cum_.begin(), cum_.end(), s) - cum_.begin());
+  if (i == 0) i = 1;
+  if (i >= pts_.size()) return pts_.back();
+  const double seg = cum_[i] - cum_[i - 1];
+  const double t = seg > 0.0 ? (s - cum_[i - 1]) / seg : 0.0;
+  const Vec2 a = pts_[i - 1], b = pts_[i];
+  return Vec2{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+}
+
+}  // namespace carril::sim

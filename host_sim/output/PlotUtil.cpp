@@ -1,0 +1,74 @@
+#include "host_sim/output/PlotUtil.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+namespace carril::sim::plot {
+
+std::string ascii(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x7f) c = '?';
+  }
+  return out;
+}
+
+void put_text(cv::Mat& img, std::string_view text, cv::Point org, double scale, cv::Scalar color,
+              int max_width, int thickness) {
+  const std::string t = ascii(text);
+  if (max_width > 0) {
+    int baseline = 0;
+    while (scale > 0.3 &&
+           cv::getTextSize(t, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline).width >
+               max_width) {
+      scale *= 0.9;
+    }
+  }
+  cv::putText(img, t, org, cv::FONT_HERSHEY_SIMPLEX, scale, color, thickness, cv::LINE_AA);
+}
+
+void shade_rect(cv::Mat& img, cv::Rect r, cv::Scalar color, double alpha) {
+  r &= cv::Rect(0, 0, img.cols, img.rows);
+  if (r.area() <= 0) return;
+  cv::Mat roi = img(r);
+  cv::Mat fill(roi.size(), roi.type(), color);
+  cv::addWeighted(fill, alpha, roi, 1.0 - alpha, 0.0, roi);
+}
+
+double nice_step(double range, int target) {
+  const double raw = range / std::max(1, target);
+  if (!(raw > 0.0) || !std::isfinite(raw)) return 1.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double norm = raw / mag;
+  const double f = norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0;
+  return f * mag;
+}
+
+std::string tick_label(double v, double step) {
+  if (std::abs(v) < std::abs(step) * 1e-6) v = 0.0;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+bool encode_png(const cv::Mat& img, std::string& png, std::string& error) {
+  std::vector<uchar> buf;
+  try {
+    if (!cv::imencode(".png", img, buf)) {
+      error = "PNG encoding failed";
+      return false;
+    }
+  } catch (const cv::Exception& e) {
+    error = std::string("PNG encoding failed: ") + e.what();
+    return false;
+  }
+  png.assign(buf.begin(), buf.end());
+  return true;
+}
+
+}  // namespace carril::sim::plot

@@ -1,0 +1,60 @@
+#include "host_sim/sensors/LidarSim.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace carril::sim {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+
+// Closest hit along the ray, ignoring the robot's own body.
+class ClosestHit : public b2RayCastCallback {
+ public:
+  explicit ClosestHit(const b2Body* self) : self_(self) {}
+  float ReportFixture(b2Fixture* f, const b2Vec2&, const b2Vec2&, float fraction) override {
+    if (f->GetBody() == self_) return -1.0F;  // pass through
+    if (fraction < best) best = fraction;
+    return fraction;  // clip the ray: only closer hits are reported afterwards
+  }
+  float best = 2.0F;
+
+ private:
+  const b2Body* self_;
+};
+}  // namespace
+
+LidarSim::LidarSim(const LidarSpec& spec, std::uint64_t seed)
+    : spec_(spec), rng_(seed ^ 0x1D4A5ULL), noise_(0.0, spec.noise_std_m > 0 ? spec.noise_std_m : 1.0) {}
+
+void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
+  const Pose2 p = world.pose();
+  const double co = std::cos(p.yaw_rad), si = std::sin(p.yaw_rad);
+  const double ox = p.x + co * spec_.x_m - si * spec_.y_m;
+  const double oy = p.y + si * spec_.x_m + co * spec_.y_m;
+  const double fov = spec_.fov_deg * kDeg;
+  const int n = spec_.beams;
+  // A full circle has no end beam: spread the beams so the last does not repeat the first.
+  const double inc = fov >= 2 * M_PI - 1e-9 ? fov / n : fov / (n - 1);
+  out.count = static_cast<std::uint16_t>(n);
+  out.angle_min_rad = float(-fov / 2);
+  out.angle_increment_rad = float(inc);
+  out.range_min_m = float(spec_.range_min_m);
+  out.range_max_m = float(spec_.range_max_m);
+  const b2Vec2 origin{float(ox), float(oy)};
+  for (int i = 0; i < n; ++i) {
+    const double a = p.yaw_rad + spec_.yaw_deg * kDeg - fov / 2 + i * inc;
+    const b2Vec2 end{float(ox + std::cos(a) * spec_.range_max_m), float(oy + std::sin(a) * spec_.range_max_m)};
+    ClosestHit hit(world.robot_body());
+    world.world().RayCast(&hit, origin, end);
+    float r = std::numeric_limits<float>::infinity();
+    if (hit.best <= 1.0F) {
+      double d = double(hit.best) * spec_.range_max_m;
+      if (spec_.noise_std_m > 0) d += noise_(rng_);
+      r = float(std::max(d, spec_.range_min_m));
+    }
+    out.ranges_m[std::size_t(i)] = r;
+  }
+}
+
+}  // namespace carril::sim

@@ -1,0 +1,24 @@
+#pragma once
+// 2D lidar by Box2D ray casts from the mount pose; ranges get Gaussian noise. A beam with no hit
+// within range_max reports +inf (the convention real drivers use for "nothing seen").
+#include <cstdint>
+#include <random>
+
+#include "hal/Types.hpp"
+#include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/world/SimWorld.hpp"
+
+namespace carril::sim {
+
+class LidarSim {
+ public:
+  LidarSim(const LidarSpec& spec, std::uint64_t seed);
+  void scan(const SimWorld& world, hal::LaserScan& out);
+
+ private:
+  LidarSpec spec_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> noise_;
+};
+
+}  // namespace carril::sim

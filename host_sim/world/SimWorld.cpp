@@ -1,0 +1,136 @@
+#include "host_sim/world/SimWorld.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace carril::sim {
+
+fw::DriveGeometry drive_geometry(const RobotSpec& robot) {
+  fw::DriveGeometry g;
+  g.type = robot.drive == DriveType::Mecanum ? fw::DriveType::Mecanum : fw::DriveType::Differential;
+  g.wheel_radius_m = robot.wheel_radius_m;
+  g.wheelbase_m = robot.wheelbase_m;
+  g.track_m = robot.track_m;
+  return g;
+}
+
+// Counts each new contact that involves the robot (Box2D reports a contact once when it begins).
+class SimWorld::ContactCounter : public b2ContactListener {
+ public:
+  explicit ContactCounter(SimWorld& w) : w_(w) {}
+  void BeginContact(b2Contact* c) override {
+    const b2Body* a = c->GetFixtureA()->GetBody();
+    const b2Body* b = c->GetFixtureB()->GetBody();
+    if (a != w_.robot_ && b != w_.robot_) return;
+    ++w_.collisions_;
+    b2WorldManifold m;
+    c->GetWorldManifold(&m);
+    const b2Vec2 p = c->GetManifold()->pointCount > 0 ? m.points[0] : w_.robot_->GetPosition();
+    w_.new_contacts_.push_back({p.x, p.y});
+  }
+
+ private:
+  SimWorld& w_;
+};
+
+SimWorld::SimWorld(const Scenario& scenario)
+    : scenario_(scenario),
+      kin_(drive_geometry(scenario.robot)),
+      world_(std::make_unique<b2World>(b2Vec2(0.0F, 0.0F))),
+      contacts_(std::make_unique<ContactCounter>(*this)) {
+  world_->SetContactListener(contacts_.get());
+  for (const ObstacleSpec& o : scenario.obstacles) {
+    if (o.shape == ObstacleShape::Box) {
+      add_static_box(o.center.x, o.center.y, o.yaw_rad, o.size_x_m / 2, o.size_y_m / 2);
+    } else {
+      b2BodyDef bd;
+      bd.position.Set(float(o.center.x), float(o.center.y));
+      b2Body* body = world_->CreateBody(&bd);
+      b2CircleShape c;
+      c.m_radius = float(o.radius_m);
+      body->CreateFixture(&c, 0.0F);
+    }
+  }
+  for (const WallSpec& w : scenario.walls) {
+    for (std::size_t i = 0; i + 1 < w.points.size(); ++i) {
+      const Vec2 a = w.points[i], b = w.points[i + 1];
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      if (len < 1e-6) continue;
+      // Extend each segment by half the thickness so corners close.
+      add_static_box((a.x + b.x) / 2, (a.y + b.y) / 2, std::atan2(b.y - a.y, b.x - a.x),
+                     len / 2 + w.thickness_m / 2, w.thickness_m / 2);
+    }
+  }
+  const RobotSpec& r = scenario.robot;
+  b2BodyDef bd;
+  bd.type = b2_dynamicBody;
+  bd.position.Set(float(r.start.x), float(r.start.y));
+  bd.angle = float(r.start.yaw_rad);
+  bd.bullet = true;  // no tunnelling through thin walls
+  robot_ = world_->CreateBody(&bd);
+  b2PolygonShape shape;
+  shape.SetAsBox(float(r.length_m / 2), float(r.width_m / 2));
+  b2FixtureDef fd;
+  fd.shape = &shape;
+  fd.density = float(r.mass_kg / (r.length_m * r.width_m));
+  fd.friction = 0.3F;
+  robot_->CreateFixture(&fd);
+}
+
+SimWorld::~SimWorld() { world_->SetContactListener(nullptr); }
+
+void SimWorld::add_static_box(double cx, double cy, double yaw, double hx, double hy) {
+  b2BodyDef bd;
+  bd.position.Set(float(cx), float(cy));
+  bd.angle = float(yaw);
+  b2Body* body = world_->CreateBody(&bd);
+  b2PolygonShape s;
+  s.SetAsBox(float(hx), float(hy));
+  body->CreateFixture(&s, 0.0F);
+}
+
+void SimWorld::set_wheel_targets(const float* radps) {
+  for (int i = 0; i < kin_.wheel_count(); ++i) target_[std::size_t(i)] = radps[i];
+}
+
+void SimWorld::step(double dt) {
+  const LimitsSpec& lim = scenario_.robot.limits;
+  // Wheel motors: follow the target within the acceleration and speed limits.
+  const double dw_max = lim.max_wheel_accel_radps2 * dt;
+  for (int i = 0; i < kin_.wheel_count(); ++i) {
+    const auto k = std::size_t(i);
+    const double want = std::clamp(double(target_[k]), -lim.max_wheel_speed_radps, lim.max_wheel_speed_radps);
+    const double w = double(wheel_speed_[k]) + std::clamp(want - double(wheel_speed_[k]), -dw_max, dw_max);
+    wheel_pos_[k] += 0.5 * (double(wheel_speed_[k]) + w) * dt;
+    wheel_speed_[k] = float(w);
+  }
+  // The wheels set the body's velocity; contacts then constrain it inside the solver.
+  const fw::Twist t = kin_.forward(wheel_speed_.data());
+  const float yaw = robot_->GetAngle();
+  const float c = std::cos(yaw), s = std::sin(yaw);
+  robot_->SetLinearVelocity(b2Vec2(float(c * t.vx - s * t.vy), float(s * t.vx + c * t.vy)));
+  robot_->SetAngularVelocity(float(t.wz));
+  world_->Step(float(dt), 8, 3);
+}
+
+Pose2 SimWorld::pose() const {
+  const b2Vec2 p = robot_->GetPosition();
+  return {double(p.x), double(p.y), std::remainder(double(robot_->GetAngle()), 2.0 * M_PI)};
+}
+
+void SimWorld::body_velocity(double& vx, double& vy, double& wz) const {
+  const b2Vec2 v = robot_->GetLinearVelocity();
+  const double yaw = double(robot_->GetAngle());
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  vx = c * double(v.x) + s * double(v.y);
+  vy = -s * double(v.x) + c * double(v.y);
+  wz = double(robot_->GetAngularVelocity());
+}
+
+std::vector<ContactStart> SimWorld::take_new_contacts() {
+  std::vector<ContactStart> out;
+  out.swap(new_contacts_);
+  return out;
+}
+
+}  // namespace carril::sim

@@ -1,0 +1,65 @@
+#pragma once
+// The Box2D world of one run: static obstacles and walls from the scenario, and the robot as a
+// dynamic body moved through its wheels. Top-down, no gravity. Metres, radians, seconds.
+#include <box2d/box2d.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "firmware/kinematics/DriveKinematics.hpp"
+#include "hal/Types.hpp"
+#include "host_sim/scenario/Scenario.hpp"
+
+namespace carril::sim {
+
+struct ContactStart {
+  double x = 0.0, y = 0.0;  // world point where the robot touched something [m]
+};
+
+class SimWorld {
+ public:
+  explicit SimWorld(const Scenario& scenario);
+  ~SimWorld();
+  SimWorld(const SimWorld&) = delete;
+  SimWorld& operator=(const SimWorld&) = delete;
+
+  // Wheel motor targets for the next steps [rad/s]; each wheel follows within its speed and
+  // acceleration limits.
+  void set_wheel_targets(const float* radps);
+  // Advances the physics by dt seconds.
+  void step(double dt_s);
+
+  Pose2 pose() const;
+  // True body-frame velocity from the physics (differs from the wheels' when blocked) [m/s, rad/s].
+  void body_velocity(double& vx, double& vy, double& wz) const;
+  int wheel_count() const { return kin_.wheel_count(); }
+  float wheel_speed(int i) const { return wheel_speed_[std::size_t(i)]; }    // [rad/s]
+  double wheel_position(int i) const { return wheel_pos_[std::size_t(i)]; }  // [rad]
+
+  int collisions() const { return collisions_; }
+  // Contact starts since the last call (for plotting).
+  std::vector<ContactStart> take_new_contacts();
+
+  const b2World& world() const { return *world_; }
+  const b2Body* robot_body() const { return robot_; }
+
+ private:
+  class ContactCounter;
+  void add_static_box(double cx, double cy, double yaw, double hx, double hy);
+
+  const Scenario& scenario_;
+  fw::DriveKinematics kin_;
+  std::unique_ptr<b2World> world_;
+  std::unique_ptr<ContactCounter> contacts_;
+  b2Body* robot_ = nullptr;
+  std::array<float, hal::kMaxWheels> target_{};
+  std::array<float, hal::kMaxWheels> wheel_speed_{};
+  std::array<double, hal::kMaxWheels> wheel_pos_{};
+  int collisions_ = 0;
+  std::vector<ContactStart> new_contacts_;
+};
+
+fw::DriveGeometry drive_geometry(const RobotSpec& robot);
+
+}  // namespace carril::sim
