@@ -1,0 +1,126 @@
+// The simulated camera puts floor points on the pixels a pinhole camera would. Expected pixels
+// are derived here by hand from the mounting geometry, not through fw::CameraModel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "hal/Types.hpp"
+#include "host_sim/sensors/CameraRenderer.hpp"
+#include "tests/unit/host_sim/SimTestScenario.hpp"
+
+namespace carril::sim {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A yellow dot of radius 1.5 cm on a grey floor at world point (mx, my).
+Scenario dot_scenario(double mx, double my) {
+  char yaml[1024];
+  std::snprintf(yaml, sizeof yaml, R"(
+name: camera_dot
+duration_s: 1
+floor: {color: [100, 100, 100]}
+robot: {preset: campero}
+mission: {type: follow_line, strategy: marks, line_color: white}
+lines: [{color: white, width_m: 0.05, points: [[-20, -20], [-19, -20]]}]
+marks: [{color: yellow, x: %.6f, y: %.6f, radius_m: 0.015}]
+)",
+                mx, my);
+  return test::load_text(yaml);
+}
+
+// Centroid of the yellow pixels.
+bool yellow_centroid(const hal::CameraFrame& f, double& u, double& v, int& n) {
+  double su = 0, sv = 0;
+  n = 0;
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const std::uint8_t* p = f.pixel(x, y);
+      if (p[0] < 50 && p[1] > 200 && p[2] > 200) {
+        su += x;
+        sv += y;
+        ++n;
+      }
+    }
+  }
+  if (n == 0) return false;
+  u = su / n;
+  v = sv / n;
+  return true;
+}
+
+TEST(CameraRendererTest, FloorPointOnOpticalAxisLandsOnImageCentre) {
+  // campero camera: x 0.49, z 0.90, tilt 55 deg. The optical axis meets the floor at
+  // x = 0.49 + 0.90 / tan(55 deg) = 1.1202 m straight ahead; it images at the principal point
+  // ((640-1)/2, (480-1)/2) = (319.5, 239.5).
+  const double ax = 0.49 + 0.90 / std::tan(55 * kDeg);
+  const Scenario s = dot_scenario(ax, 0.0);
+  CameraRenderer cam(s, 1);
+  auto frame = std::make_unique<hal::CameraFrame>();
+  cam.render({0.0, 0.0, 0.0}, *frame);
+  ASSERT_EQ(frame->width, 640);
+  ASSERT_EQ(frame->height, 480);
+  double u = 0, v = 0;
+  int n = 0;
+  ASSERT_TRUE(yellow_centroid(*frame, u, v, n));
+  EXPECT_GT(n, 20);
+  EXPECT_NEAR(u, 319.5, 0.5);
+  EXPECT_NEAR(v, 239.5, 0.5);
+}
+
+TEST(CameraRendererTest, OffAxisPointMatchesPinholeByHand) {
+  // Robot at (2, 1) facing +y (yaw 90 deg). A dot 1.3 m ahead and 0.2 m to its left is at world
+  // (2 - 0.2, 1 + 1.3) = (1.8, 2.3). In the camera: lateral X = -0.2 (image right is robot -y);
+  // relative to the optical centre, forward d = 1.3 - 0.49 = 0.81, down h = 0.90.
+  // Depth along the axis Z = d cos(t) + h sin(t); image-down Y = -d sin(t) + h cos(t)... with the
+  // camera's y axis (-sin t, 0, -cos t) applied to (d, 0.2, -h): Y = -d sin t + h cos t.
+  // f = 320 / tan(54.2/2 deg).
+  const double t = 55 * kDeg, d = 0.81, h = 0.90, lat = -0.2;
+  const double z = d * std::cos(t) + h * std::sin(t);
+  const double y = -d * std::sin(t) + h * std::cos(t);
+  const double f = 320.0 / std::tan(54.2 / 2 * kDeg);
+  const double u_exp = f * lat / z + 319.5, v_exp = f * y / z + 239.5;
+  const Scenario s = dot_scenario(1.8, 2.3);
+  CameraRenderer cam(s, 1);
+  auto frame = std::make_unique<hal::CameraFrame>();
+  cam.render({2.0, 1.0, 90 * kDeg}, *frame);
+  double u = 0, v = 0;
+  int n = 0;
+  ASSERT_TRUE(yellow_centroid(*frame, u, v, n));
+  EXPECT_LT(u, 319.5);  // left of the robot is left in the image
+  EXPECT_NEAR(u, u_exp, 0.5);
+  EXPECT_NEAR(v, v_exp, 0.5);
+}
+
+TEST(CameraRendererTest, PointBehindCameraIsNotDrawn) {
+  const Scenario s = dot_scenario(-1.0, 0.0);
+  CameraRenderer cam(s, 1);
+  auto frame = std::make_unique<hal::CameraFrame>();
+  cam.render({0.0, 0.0, 0.0}, *frame);
+  double u = 0, v = 0;
+  int n = 0;
+  EXPECT_FALSE(yellow_centroid(*frame, u, v, n));
+  EXPECT_EQ(frame->pixel(0, 0)[0], 100);  // floor colour everywhere
+}
+
+TEST(CameraRendererTest, NoiseIsSeededAndDeterministic) {
+  Scenario s = dot_scenario(1.1, 0.0);
+  s.robot.camera.noise_std = 4.0;
+  auto a = std::make_unique<hal::CameraFrame>(), b = std::make_unique<hal::CameraFrame>(),
+       c = std::make_unique<hal::CameraFrame>();
+  CameraRenderer ra(s, 7), rb(s, 7), rc(s, 8);
+  ra.render({0, 0, 0}, *a);
+  rb.render({0, 0, 0}, *b);
+  rc.render({0, 0, 0}, *c);
+  const std::size_t n = 640 * 480 * 3;
+  EXPECT_EQ(0, std::memcmp(a->bgr.data(), b->bgr.data(), n));
+  EXPECT_NE(0, std::memcmp(a->bgr.data(), c->bgr.data(), n));
+  // Noise is zero-mean around the floor value.
+  double sum = 0;
+  for (int x = 0; x < 640; ++x) sum += a->pixel(x, 0)[1];
+  EXPECT_NEAR(sum / 640, 100.0, 1.0);
+}
+
+}  // namespace
+}  // namespace carril::sim
