@@ -1,0 +1,202 @@
+// carril_robot: the firmware on the robot computer. Wires the robot (RobotTopology), runs the
+// firmware at its configured rate on absolute deadlines and, when it stops, prints the firmware's
+// telemetry once.
+// Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
+// 1 a signal stopped it before the requested ticks, 2 bad usage.
+#include <Eigen/Core>
+#include <atomic>
+#include <charconv>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string_view>
+
+#include "targets/robot/RobotTopology.hpp"
+
+namespace {
+
+using carril::fw::Controller;
+using carril::fw::Event;
+using carril::fw::EventKind;
+using carril::fw::LoopStats;
+using carril::fw::Telemetry;
+
+// Set by the signal handler, read by the loop's step function.
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_signal(int) {
+  g_stop.store(true, std::memory_order_relaxed);
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+constexpr const char* kUsage =
+    "usage: carril_robot [--ticks N]\n"
+    "  Runs the line-following firmware on the robot at its control rate.\n"
+    "  --ticks N   stop after N control ticks (N >= 1); default: run until SIGINT or SIGTERM\n"
+    "  --help      print this and exit\n"
+    "Prints the firmware telemetry when it stops.\n"
+    "Exit status: 0 ran the requested ticks (or until a signal, without --ticks),\n"
+    "1 a signal stopped it before the requested ticks, 2 bad usage.\n";
+
+struct Options {
+  std::uint64_t ticks = 0;  // 0: until a signal
+  bool help = false;
+};
+
+struct UsageError {
+  const char* why = "";
+  const char* arg = "";  // the offending argument
+};
+
+// Plain argv parsing (no CLI library on the target). Returns false with the reason in `err`.
+bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
+  bool have_ticks = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    err.arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      opt.help = true;
+      return true;
+    }
+    std::string_view value;
+    if (arg == "--ticks") {
+      if (i + 1 >= argc) {
+        err.why = "--ticks needs a value";
+        return false;
+      }
+      value = argv[++i];
+      err.arg = argv[i];
+    } else if (arg.starts_with("--ticks=")) {
+      value = arg.substr(std::strlen("--ticks="));
+    } else {
+      err.why = "unknown argument";
+      return false;
+    }
+    if (have_ticks) {
+      err.why = "--ticks given more than once";
+      return false;
+    }
+    have_ticks = true;
+    std::uint64_t n = 0;
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+    if (value.empty() || ec != std::errc{} || end != value.data() + value.size() || n == 0) {
+      err.why = "--ticks needs a whole number of ticks >= 1";
+      return false;
+    }
+    opt.ticks = n;
+  }
+  return true;
+}
+
+void print_telemetry(const Telemetry& t, const LoopStats& loop) {
+  std::printf("telemetry:\n");
+  std::printf("  ticks %llu\n", static_cast<unsigned long long>(t.ticks));
+  std::printf(
+      "  tick compute: p50 %.2f us, p99 %.2f us, max %.2f us (budget %.0f us), overruns %llu\n",
+      t.tick_p50_us, t.tick_p99_us, t.tick_max_us, t.tick_budget_us,
+      static_cast<unsigned long long>(t.tick_overruns));
+  std::printf("  loop: periods %llu, missed deadlines %llu\n",
+              static_cast<unsigned long long>(loop.periods),
+              static_cast<unsigned long long>(loop.missed_deadlines));
+  std::printf("  %-12s %7s %6s %8s %8s %9s %9s\n", "task", "divisor", "offset", "runs", "overruns",
+              "p99 us", "max us");
+  for (const auto& task : t.tasks) {
+    std::printf("  %-12s %7u %6u %8llu %8llu %9.2f %9.2f\n", task.name, task.divisor, task.offset,
+                static_cast<unsigned long long>(task.runs),
+                static_cast<unsigned long long>(task.overruns), task.p99_us, task.max_us);
+  }
+  std::printf("  state %s, fault %s\n", carril::fw::state_name(t.state),
+              carril::fw::fault_name(t.fault));
+}
+
+// State changes and faults, oldest first (the controller keeps the newest kEventLog).
+void print_events(Controller& ctl, carril::hal::TimeNs t0_ns) {
+  std::printf("events (newest %zu kept):\n", Controller::kEventLog);
+  Event e;
+  while (ctl.events().pop(e)) {
+    const double t = double(e.t_ns - t0_ns) * 1e-9;
+    if (e.kind == EventKind::Fault) {
+      std::printf("  %9.3f s  FAULT %s (code 0x%04X) in %s: safe stop\n", t,
+                  carril::fw::fault_name(e.fault), unsigned(e.code),
+                  carril::fw::state_name(e.from));
+    } else {
+      std::printf("  %9.3f s  %s -> %s\n", t, carril::fw::state_name(e.from),
+                  carril::fw::state_name(e.to));
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  UsageError err;
+  if (!parse_args(argc, argv, opt, err)) {
+    std::fprintf(stderr, "carril_robot: %s: '%s'\n%s", err.why, err.arg, kUsage);
+    return 2;
+  }
+  if (opt.help) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+
+  // Init: everything is created and wired here, before the first tick; nothing after this
+  // allocates.
+  install_signal_handlers();
+  const auto topo = std::make_unique<carril::robot::RobotTopology>();
+  const carril::fw::FirmwareConfig& cfg = topo->config;
+  std::printf(
+      "carril_robot: mecanum, wheel radius %.3f m, wheelbase %.2f m, track %.2f m, camera %dx%d, "
+      "%.0f Hz; devices: null camera, lidar, imu and %d drives (no CAN backend yet)\n",
+      cfg.drive.wheel_radius_m, cfg.drive.wheelbase_m, cfg.drive.track_m, cfg.camera.width,
+      cfg.camera.height, cfg.rate_hz, topo->drives.count());
+  if (opt.ticks > 0) {
+    std::printf("carril_robot: running %llu ticks\n", static_cast<unsigned long long>(opt.ticks));
+  } else {
+    std::printf("carril_robot: running until SIGINT or SIGTERM\n");
+  }
+  std::fflush(stdout);
+
+  // The loop: one firmware step per period. A signal ends it at the next period (the sleep
+  // restarts after the handler, so that is at most one period later).
+  const carril::hal::TimeNs t0_ns = topo->clock.now_ns();
+  const LoopStats loop = topo->loop.run(
+      [&app = topo->app] {
+        if (g_stop.load(std::memory_order_relaxed)) return false;
+        // The firmware's tick touches no heap; Eigen checks that where asserts are on.
+        Eigen::internal::set_is_malloc_allowed(false);
+        app.step();
+        Eigen::internal::set_is_malloc_allowed(true);
+        return true;
+      },
+      opt.ticks);
+
+  // Stopped: report once, outside the loop.
+  topo->controller.refresh_telemetry();
+  const Telemetry& tel = topo->controller.telemetry();
+  const bool interrupted = opt.ticks > 0 && tel.ticks < opt.ticks;
+  if (interrupted) {
+    std::printf("carril_robot: stopped by a signal after %llu of %llu ticks\n",
+                static_cast<unsigned long long>(tel.ticks),
+                static_cast<unsigned long long>(opt.ticks));
+  } else if (opt.ticks > 0) {
+    std::printf("carril_robot: ran the requested %llu ticks\n",
+                static_cast<unsigned long long>(opt.ticks));
+  } else {
+    std::printf("carril_robot: stopped by a signal after %llu ticks\n",
+                static_cast<unsigned long long>(tel.ticks));
+  }
+  print_telemetry(tel, loop);
+  print_events(topo->controller, t0_ns);
+  return interrupted ? 1 : 0;
+}
