@@ -29,8 +29,9 @@ class FixedRateLoop {
       next += period_ns_;
       const hal::TimeNs now = clock_.now_ns();
       if (now > next) {
+        // Deadlines passed while the step ran; one met exactly (now == deadline) still counts.
         const hal::TimeNs late = now - next;
-        const auto skipped = static_cast<std::uint64_t>(late / period_ns_) + 1;
+        const auto skipped = static_cast<std::uint64_t>((late + period_ns_ - 1) / period_ns_);
         st.missed_deadlines += skipped;
         next += static_cast<hal::TimeNs>(skipped) * period_ns_;
       }

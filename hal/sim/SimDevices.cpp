@@ -47,17 +47,17 @@ SimWheelDrives::SimWheelDrives(int count) : count_(count) {
   fb_.count = static_cast<std::uint8_t>(count);
 }
 
-void SimWheelDrives::enable() { enable_requested_ = true; }
+void SimWheelDrives::enable() { enable_requested_.fill(true); }
 
 void SimWheelDrives::disable() {
-  enable_requested_ = false;
+  enable_requested_.fill(false);
   for (int i = 0; i < count_; ++i) {
     if (fb_.wheel[i].state != DriveState::Fault) fb_.wheel[i].state = DriveState::Disabled;
   }
 }
 
 void SimWheelDrives::quick_stop() {
-  enable_requested_ = false;
+  enable_requested_.fill(false);
   ++quick_stops_;
   for (int i = 0; i < count_; ++i) {
     if (fb_.wheel[i].state != DriveState::Fault) fb_.wheel[i].state = DriveState::QuickStop;
@@ -83,7 +83,7 @@ void SimWheelDrives::read(WheelFeedbackSet& out) const { out = fb_; }
 void SimWheelDrives::sync(float* target_radps) {
   for (int i = 0; i < count_; ++i) {
     WheelFeedback& w = fb_.wheel[i];
-    if (enable_requested_) {
+    if (enable_requested_[std::size_t(i)]) {
       if (w.state == DriveState::Disabled || w.state == DriveState::QuickStop) {
         w.state = DriveState::Enabling;
       } else if (w.state == DriveState::Enabling) {
@@ -105,6 +105,8 @@ void SimWheelDrives::set_feedback(int wheel, TimeNs stamp_ns, float velocity_rad
 void SimWheelDrives::inject_fault(int wheel, DriveFault code) {
   fb_.wheel[wheel].state = DriveState::Fault;
   fb_.wheel[wheel].fault = code;
+  enable_requested_[std::size_t(wheel)] = false;
+  setpoint_[std::size_t(wheel)] = 0.0F;
 }
 
 }  // namespace carril::hal

@@ -99,7 +99,8 @@ class SimWheelDrives final : public WheelDrives {
   int count_;
   WheelFeedbackSet fb_{};
   std::array<float, kMaxWheels> setpoint_{};
-  bool enable_requested_ = false;
+  // Per drive, as on a bus: a fault cancels that drive's request, so recovery needs a new enable.
+  std::array<bool, kMaxWheels> enable_requested_{};
   int quick_stops_ = 0;
 };
 

@@ -1,0 +1,101 @@
+#include "firmware/core/LatencyStats.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+namespace carril::fw {
+namespace {
+
+constexpr double kBin = 0.25;  // histogram bin width [us]
+
+// LatencyStats holds a 32 KiB histogram: keep it off the test's stack.
+std::unique_ptr<LatencyStats> make() {
+  return std::make_unique<LatencyStats>();
+}
+
+TEST(LatencyStatsTest, EmptyIsZero) {
+  auto s = make();
+  EXPECT_EQ(s->count(), 0U);
+  EXPECT_EQ(s->max_us(), 0.0);
+  EXPECT_EQ(s->percentile_us(0.5), 0.0);
+  EXPECT_EQ(s->percentile_us(0.99), 0.0);
+}
+
+TEST(LatencyStatsTest, PercentilesOfOneToHundredMicroseconds) {
+  auto s = make();
+  // Add in a shuffled order: the result must not depend on it.
+  for (int i = 0; i < 100; ++i) {
+    const int us = 1 + (i * 37) % 100;  // 37 is coprime with 100: a permutation of 1..100
+    s->add(std::int64_t{us} * 1000);
+  }
+  EXPECT_EQ(s->count(), 100U);
+  EXPECT_DOUBLE_EQ(s->max_us(), 100.0);
+  // Nearest rank: p50 is the 50th sample (50 us), p99 the 99th (99 us); reported as the upper
+  // edge of their bin, so within one bin above the sample.
+  const double p50 = s->percentile_us(0.50);
+  EXPECT_GE(p50, 50.0);
+  EXPECT_LE(p50, 50.0 + kBin);
+  const double p99 = s->percentile_us(0.99);
+  EXPECT_GE(p99, 99.0);
+  EXPECT_LE(p99, 99.0 + kBin);
+  // p100 never exceeds the exact maximum.
+  EXPECT_DOUBLE_EQ(s->percentile_us(1.0), 100.0);
+  // p0 is the smallest sample.
+  const double p0 = s->percentile_us(0.0);
+  EXPECT_GE(p0, 1.0);
+  EXPECT_LE(p0, 1.0 + kBin);
+}
+
+TEST(LatencyStatsTest, MaxIsExactNotBinned) {
+  auto s = make();
+  s->add(12'345);  // 12.345 us
+  s->add(3'001);
+  EXPECT_DOUBLE_EQ(s->max_us(), 12.345);
+  // A single-bin answer would say 12.5; the percentile is capped at the exact max.
+  EXPECT_DOUBLE_EQ(s->percentile_us(1.0), 12.345);
+}
+
+TEST(LatencyStatsTest, OverflowFallsBackToMax) {
+  auto s = make();
+  // 50 samples at 10 us and 50 beyond the 2048 us histogram (3000..3049 us).
+  for (int i = 0; i < 50; ++i) s->add(10'000);
+  for (int i = 0; i < 50; ++i) s->add(std::int64_t{3000 + i} * 1000);
+  EXPECT_EQ(s->count(), 100U);
+  EXPECT_DOUBLE_EQ(s->max_us(), 3049.0);
+  // The median is still in the histogram.
+  EXPECT_GE(s->percentile_us(0.5), 10.0);
+  EXPECT_LE(s->percentile_us(0.5), 10.0 + kBin);
+  // p99 lies among the overflowed samples: reported as the maximum.
+  EXPECT_DOUBLE_EQ(s->percentile_us(0.99), 3049.0);
+}
+
+TEST(LatencyStatsTest, HistogramEndIsOverflow) {
+  auto s = make();
+  s->add(2'048'000);  // exactly 2048 us: the first value past the last bin
+  EXPECT_EQ(s->count(), 1U);
+  EXPECT_DOUBLE_EQ(s->percentile_us(0.5), 2048.0);
+  EXPECT_DOUBLE_EQ(s->max_us(), 2048.0);
+}
+
+TEST(LatencyStatsTest, NegativeClampedToZero) {
+  auto s = make();
+  s->add(-500);
+  EXPECT_EQ(s->count(), 1U);
+  EXPECT_EQ(s->max_us(), 0.0);
+  EXPECT_EQ(s->percentile_us(0.99), 0.0);
+}
+
+TEST(LatencyStatsTest, ResetForgetsEverything) {
+  auto s = make();
+  for (int i = 0; i < 10; ++i) s->add(5'000'000);
+  s->reset();
+  EXPECT_EQ(s->count(), 0U);
+  EXPECT_EQ(s->max_us(), 0.0);
+  EXPECT_EQ(s->percentile_us(0.99), 0.0);
+  s->add(2'000);
+  EXPECT_DOUBLE_EQ(s->percentile_us(0.99), 2.0);  // bin edge 2.25 capped at max 2.0
+}
+
+}  // namespace
+}  // namespace carril::fw
