@@ -102,9 +102,11 @@ bool LiveView::update(SimRun& run, double dt_s) {
   cv::Mat cam_small;
   const double k = double(top.rows) / std::max(1, cam.rows) * 0.6;
   cv::resize(cam, cam_small, cv::Size(), k, k);
-  cv::Mat canvas(std::max(top.rows, cam_small.rows), top.cols + cam_small.cols, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat canvas(std::max(top.rows, cam_small.rows + 40), top.cols + cam_small.cols, CV_8UC3, cv::Scalar(40, 40, 40));
   top.copyTo(canvas(cv::Rect(0, 0, top.cols, top.rows)));
   cam_small.copyTo(canvas(cv::Rect(top.cols, 0, cam_small.cols, cam_small.rows)));
+  cv::putText(canvas, cv::format("camera %dx%d (robot's view, up = ahead)", f.width, f.height),
+              {top.cols + 10, cam_small.rows + 28}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(230, 230, 230), 1);
   cv::imshow(kWindow, canvas);
   const int key = cv::waitKey(1);
   if (key == 'q' || key == 27) return false;
