@@ -27,21 +27,21 @@ struct CameraFrame {
 // One 2D lidar sweep. A range may be NaN (no return), +inf (beyond range) or 0 (invalid):
 // consumers must check std::isfinite before comparing.
 struct LaserScan {
-  std::uint32_t seq = 0;           // 0 = no scan yet
-  TimeNs stamp_ns = 0;             // [ns]
-  float angle_min_rad = 0.0F;      // first beam, in the sensor frame [rad]
-  float angle_increment_rad = 0.0F;  // [rad]
-  float range_min_m = 0.0F;        // [m]
-  float range_max_m = 0.0F;        // [m]
-  std::uint16_t count = 0;         // beams in ranges_m
+  std::uint32_t seq = 0;                        // 0 = no scan yet
+  TimeNs stamp_ns = 0;                          // [ns]
+  float angle_min_rad = 0.0F;                   // first beam, in the sensor frame [rad]
+  float angle_increment_rad = 0.0F;             // [rad]
+  float range_min_m = 0.0F;                     // [m]
+  float range_max_m = 0.0F;                     // [m]
+  std::uint16_t count = 0;                      // beams in ranges_m
   std::array<float, kMaxScanBeams> ranges_m{};  // [m]
 };
 
 struct ImuSample {
-  TimeNs stamp_ns = 0;        // [ns]
+  TimeNs stamp_ns = 0;  // [ns]
   bool valid = false;
-  float roll_rad = 0.0F;      // [rad]
-  float pitch_rad = 0.0F;     // [rad]
+  float roll_rad = 0.0F;        // [rad]
+  float pitch_rad = 0.0F;       // [rad]
   float yaw_rate_radps = 0.0F;  // [rad/s]
 };
 
@@ -57,7 +57,7 @@ enum class DriveState : std::uint8_t {
 // Fault codes (CiA 301/402 error code style; 0 = none).
 enum class DriveFault : std::uint16_t {
   None = 0,
-  HeartbeatLost = 0x8130,   // no heartbeat from the drive within its timeout
+  HeartbeatLost = 0x8130,  // no heartbeat from the drive within its timeout
   Overcurrent = 0x2310,
   Undervoltage = 0x3220,
   FollowingError = 0x8611,

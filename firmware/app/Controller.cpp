@@ -5,14 +5,17 @@
 namespace carril::fw {
 
 namespace {
-constexpr std::int64_t us(double v) { return static_cast<std::int64_t>(v * 1e3); }
+constexpr std::int64_t us(double v) {
+  return static_cast<std::int64_t>(v * 1e3);
+}
 
 // Default pursuit distance: the floor seen 85% of the way down the image, near the bottom edge of
 // the view. A longer look-ahead cuts 90 deg corners (measured on scenarios/square.yaml: cross-track
 // rms 0.100 m at the image centre, 0.067 m here).
 double default_lookahead(const CameraModel& cam) {
   Vec2 floor;
-  if (cam.pixel_to_floor(Vec2(cam.cx(), 0.85 * (cam.mount().height - 1)), floor)) return floor.norm();
+  if (cam.pixel_to_floor(Vec2(cam.cx(), 0.85 * (cam.mount().height - 1)), floor))
+    return floor.norm();
   return 1.0;
 }
 }  // namespace
@@ -31,13 +34,17 @@ Controller::Controller(const FirmwareConfig& cfg, const hal::Clock& clock)
       limiter_(cfg.limits, kin_, 1.0 / cfg.rate_hz),
       tick_budget_ns_(static_cast<std::int64_t>(0.5e9 / cfg.rate_hz)) {
   // Rate groups. Perception runs at about the camera's frame rate, obstacles at the lidar's.
-  const auto per_frame = static_cast<std::uint32_t>(cfg.rate_hz / 30.0 > 1.0 ? cfg.rate_hz / 30.0 : 1.0);
-  const auto per_scan = static_cast<std::uint32_t>(cfg.rate_hz / 20.0 > 1.0 ? cfg.rate_hz / 20.0 : 1.0);
+  const auto per_frame =
+      static_cast<std::uint32_t>(cfg.rate_hz / 30.0 > 1.0 ? cfg.rate_hz / 30.0 : 1.0);
+  const auto per_scan =
+      static_cast<std::uint32_t>(cfg.rate_hz / 20.0 > 1.0 ? cfg.rate_hz / 20.0 : 1.0);
   bool ok = true;
   ok &= tasks_.add(TaskSpec::bind<&Controller::task_health>("health", 1, 0, us(20), this));
   ok &= tasks_.add(TaskSpec::bind<&Controller::task_odometry>("odometry", 1, 0, us(20), this));
-  ok &= tasks_.add(TaskSpec::bind<&Controller::task_perception>("perception", per_frame, 0, us(300), this));
-  ok &= tasks_.add(TaskSpec::bind<&Controller::task_obstacles>("obstacles", per_scan, 1 % per_scan, us(50), this));
+  ok &= tasks_.add(
+      TaskSpec::bind<&Controller::task_perception>("perception", per_frame, 0, us(300), this));
+  ok &= tasks_.add(TaskSpec::bind<&Controller::task_obstacles>("obstacles", per_scan, 1 % per_scan,
+                                                               us(50), this));
   ok &= tasks_.add(TaskSpec::bind<&Controller::task_behavior>("behavior", 1, 0, us(50), this));
   ok &= tasks_.add(TaskSpec::bind<&Controller::task_telemetry>("telemetry", 10, 9, us(50), this));
   assert(ok && "task table misconfigured");
@@ -97,11 +104,14 @@ void Controller::task_health() {
   // Before the first sample the init timeout applies (in INIT); afterwards the sensor's own.
   if (state_ != MissionState::Init) {
     if (now_s() - last_frame_s_ > cfg_.camera_timeout_s) raise(Fault::CameraTimeout);
-    if (cfg_.lidar.present && now_s() - last_scan_s_ > cfg_.lidar.timeout_s) raise(Fault::ScannerTimeout);
+    if (cfg_.lidar.present && now_s() - last_scan_s_ > cfg_.lidar.timeout_s)
+      raise(Fault::ScannerTimeout);
   }
 }
 
-void Controller::task_odometry() { odom_.update(frame_->wheels); }
+void Controller::task_odometry() {
+  odom_.update(frame_->wheels);
+}
 
 void Controller::task_perception() {
   const hal::CameraFrame* cam = frame_->camera;
@@ -151,7 +161,8 @@ void Controller::task_behavior() {
   }
   if (fresh_obs_) {
     frames_without_line_ = obs_.line_seen ? 0 : frames_without_line_ + 1;
-    if (obs_.line_seen) last_line_side_ = obs_.line_points[obs_.line_points.size() - 1].y() >= 0 ? 1.0 : -1.0;
+    if (obs_.line_seen)
+      last_line_side_ = obs_.line_points[obs_.line_points.size() - 1].y() >= 0 ? 1.0 : -1.0;
   }
   const bool line_gone = frames_without_line_ >= 3;
   const bool fresh = fresh_obs_;
@@ -235,7 +246,9 @@ void Controller::task_behavior() {
   cmd_.twist = limiter_.apply(want, cmd_.wheel_radps.data());
 }
 
-void Controller::task_telemetry() { refresh_telemetry(); }
+void Controller::task_telemetry() {
+  refresh_telemetry();
+}
 
 void Controller::refresh_telemetry() {
   Telemetry& t = telemetry_;

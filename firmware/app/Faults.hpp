@@ -17,14 +17,22 @@ enum class Fault : std::uint8_t {
 
 inline const char* fault_name(Fault f) {
   switch (f) {
-    case Fault::None: return "none";
-    case Fault::CameraTimeout: return "camera_timeout";
-    case Fault::CameraBadFrame: return "camera_bad_frame";
-    case Fault::ScannerTimeout: return "scanner_timeout";
-    case Fault::DriveFault: return "drive_fault";
-    case Fault::DriveEnableTimeout: return "drive_enable_timeout";
-    case Fault::LineNotFound: return "line_not_found";
-    case Fault::Count: break;
+    case Fault::None:
+      return "none";
+    case Fault::CameraTimeout:
+      return "camera_timeout";
+    case Fault::CameraBadFrame:
+      return "camera_bad_frame";
+    case Fault::ScannerTimeout:
+      return "scanner_timeout";
+    case Fault::DriveFault:
+      return "drive_fault";
+    case Fault::DriveEnableTimeout:
+      return "drive_enable_timeout";
+    case Fault::LineNotFound:
+      return "line_not_found";
+    case Fault::Count:
+      break;
   }
   return "?";
 }

@@ -15,9 +15,15 @@ const ActuatorCommand& FirmwareApp::step() {
   // period, zero unless running.
   if (cmd_.drive != applied_) {
     switch (cmd_.drive) {
-      case DriveRequest::Run: dev_.drives.enable(); break;
-      case DriveRequest::QuickStop: dev_.drives.quick_stop(); break;
-      case DriveRequest::Disable: dev_.drives.disable(); break;
+      case DriveRequest::Run:
+        dev_.drives.enable();
+        break;
+      case DriveRequest::QuickStop:
+        dev_.drives.quick_stop();
+        break;
+      case DriveRequest::Disable:
+        dev_.drives.disable();
+        break;
     }
     applied_ = cmd_.drive;
   }

@@ -18,11 +18,11 @@ struct FirmwareConfig {
   double footprint_length_m = 0.5, footprint_width_m = 0.5;  // [m]
 
   struct Limits {
-    double max_speed_mps = 1.0;          // [m/s]
-    double max_yaw_rate_radps = 1.5;     // [rad/s]
-    double max_accel_mps2 = 1.0;         // [m/s^2]
-    double max_yaw_accel_radps2 = 3.0;   // [rad/s^2]
-    double max_wheel_speed_radps = 10.0; // [rad/s]
+    double max_speed_mps = 1.0;           // [m/s]
+    double max_yaw_rate_radps = 1.5;      // [rad/s]
+    double max_accel_mps2 = 1.0;          // [m/s^2]
+    double max_yaw_accel_radps2 = 3.0;    // [rad/s^2]
+    double max_wheel_speed_radps = 10.0;  // [rad/s]
   } limits;
 
   CameraMount camera;
@@ -37,18 +37,18 @@ struct FirmwareConfig {
   struct Mission {
     Rgb8 line_color{255, 255, 255};
     Rgb8 end_color{255, 255, 0};
-    double speed_mps = 0.5;     // cruise speed [m/s]
-    int color_tolerance = 70;   // max per-channel difference to count as the colour [0..255]
+    double speed_mps = 0.5;    // cruise speed [m/s]
+    int color_tolerance = 70;  // max per-channel difference to count as the colour [0..255]
   } mission;
 
   struct Follower {
-    double lookahead_m = 0.0;           // pursuit distance from the robot centre; 0 = near edge of view [m]
-    double curvature_slowdown_m = 0.6;  // v = cruise / (1 + this * |curvature|)
-    double search_yaw_rate_radps = 0.6; // turn rate while looking for a lost line [rad/s]
-    double search_max_turn_rad = 6.6;   // give up (fault) after turning this far [rad]
-    double end_approach_gain = 1.2;     // speed per metre to the end mark [1/s]
-    double end_tolerance_m = 0.01;      // stop this close to the mark [m]
-    double init_timeout_s = 3.0;        // drives and sensors must be up by then [s]
+    double lookahead_m = 0.0;  // pursuit distance from the robot centre; 0 = near edge of view [m]
+    double curvature_slowdown_m = 0.6;   // v = cruise / (1 + this * |curvature|)
+    double search_yaw_rate_radps = 0.6;  // turn rate while looking for a lost line [rad/s]
+    double search_max_turn_rad = 6.6;    // give up (fault) after turning this far [rad]
+    double end_approach_gain = 1.2;      // speed per metre to the end mark [1/s]
+    double end_tolerance_m = 0.01;       // stop this close to the mark [m]
+    double init_timeout_s = 3.0;         // drives and sensors must be up by then [s]
   } follower;
 
   double protective_stop_m = 0.30;  // stop if an obstacle is this close ahead of the bumper [m]

@@ -11,7 +11,7 @@ namespace carril::fw {
 // Sensor snapshot assembled from the HAL before each tick. Pointers reference HAL-owned buffers,
 // valid for this tick only; nullptr when the device has delivered nothing.
 struct SensorFrame {
-  hal::TimeNs now_ns = 0;                  // loop time [ns]
+  hal::TimeNs now_ns = 0;  // loop time [ns]
   const hal::CameraFrame* camera = nullptr;
   const hal::LaserScan* scan = nullptr;
   hal::ImuSample imu{};

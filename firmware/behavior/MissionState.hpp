@@ -19,13 +19,20 @@ enum class MissionState : std::uint8_t {
 
 inline const char* state_name(MissionState s) {
   switch (s) {
-    case MissionState::Init: return "INIT";
-    case MissionState::Follow: return "FOLLOW";
-    case MissionState::Lost: return "LOST";
-    case MissionState::End: return "END";
-    case MissionState::Blocked: return "BLOCKED";
-    case MissionState::Fault: return "FAULT";
-    case MissionState::Count: break;
+    case MissionState::Init:
+      return "INIT";
+    case MissionState::Follow:
+      return "FOLLOW";
+    case MissionState::Lost:
+      return "LOST";
+    case MissionState::End:
+      return "END";
+    case MissionState::Blocked:
+      return "BLOCKED";
+    case MissionState::Fault:
+      return "FAULT";
+    case MissionState::Count:
+      break;
   }
   return "?";
 }

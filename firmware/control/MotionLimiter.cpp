@@ -31,7 +31,8 @@ Twist MotionLimiter::apply(const Twist& want, float* wheel_radps) {
   kin_.inverse(t, wheel_radps);
   // std::max, not std::fmax: aarch64 g++ 12.2 crashes vectorising an fmax reduction at -O3.
   double peak = 0.0;
-  for (int i = 0; i < kin_.wheel_count(); ++i) peak = std::max(peak, std::fabs(double(wheel_radps[i])));
+  for (int i = 0; i < kin_.wheel_count(); ++i)
+    peak = std::max(peak, std::fabs(double(wheel_radps[i])));
   if (peak > lim_.max_wheel_speed_radps) {
     const double k = lim_.max_wheel_speed_radps / peak;
     t.vx *= k;

@@ -29,7 +29,9 @@ inline double wrap_angle(double a) {
   return a;
 }
 
-inline double clampd(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+inline double clampd(double v, double lo, double hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
 
 // Robot-frame point to world frame for a robot at `p`.
 inline Vec2 to_world(const Pose2& p, const Vec2& r) {

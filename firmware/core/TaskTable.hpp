@@ -11,9 +11,9 @@ namespace carril::fw {
 
 struct TaskSpec {
   const char* name = "";
-  std::uint32_t divisor = 1;  // runs every `divisor` ticks
-  std::uint32_t offset = 0;   // on ticks where tick % divisor == offset
-  std::int64_t budget_ns = 0; // compute time over this is an overrun [ns]
+  std::uint32_t divisor = 1;   // runs every `divisor` ticks
+  std::uint32_t offset = 0;    // on ticks where tick % divisor == offset
+  std::int64_t budget_ns = 0;  // compute time over this is an overrun [ns]
   void (*fn)(void* ctx) = nullptr;
   void* ctx = nullptr;
 
@@ -21,8 +21,8 @@ struct TaskSpec {
   template <auto Method, typename T>
   static TaskSpec bind(const char* name, std::uint32_t divisor, std::uint32_t offset,
                        std::int64_t budget_ns, T* obj) {
-    return TaskSpec{name, divisor, offset, budget_ns,
-                    [](void* c) { (static_cast<T*>(c)->*Method)(); }, obj};
+    return TaskSpec{
+        name, divisor, offset, budget_ns, [](void* c) { (static_cast<T*>(c)->*Method)(); }, obj};
   }
 };
 

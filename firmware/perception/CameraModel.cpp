@@ -27,7 +27,9 @@ CameraModel::CameraModel(const CameraMount& m)
   h_inv_ = h_.inverse();
 }
 
-Vec3 CameraModel::to_camera(const Vec3& p_robot) const { return rot_ * (p_robot - centre_); }
+Vec3 CameraModel::to_camera(const Vec3& p_robot) const {
+  return rot_ * (p_robot - centre_);
+}
 
 bool CameraModel::project(const Vec3& p_robot, Vec2& px) const {
   const Vec3 pc = to_camera(p_robot);

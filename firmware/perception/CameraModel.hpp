@@ -37,10 +37,10 @@ class CameraModel {
  private:
   CameraMount m_;
   double f_, cx_, cy_;
-  Mat3 rot_;       // rows: camera axes expressed in the robot frame
-  Vec3 centre_;    // optical centre, robot frame
-  Mat3 h_;         // floor (x, y, 1) -> image (u, v, 1)
-  Mat3 h_inv_;     // image -> floor
+  Mat3 rot_;     // rows: camera axes expressed in the robot frame
+  Vec3 centre_;  // optical centre, robot frame
+  Mat3 h_;       // floor (x, y, 1) -> image (u, v, 1)
+  Mat3 h_inv_;   // image -> floor
 };
 
 }  // namespace carril::fw

@@ -48,7 +48,8 @@ bool TapeScanner::scan(const hal::CameraFrame& frame, TapeObservation& out) cons
     out.line_samples += count;
     if (count >= min_band_samples_) {
       Vec2 floor;
-      if (cam_.pixel_to_floor(Vec2(double(sum_u) / count, v), floor)) out.line_points.push_back(floor);
+      if (cam_.pixel_to_floor(Vec2(double(sum_u) / count, v), floor))
+        out.line_points.push_back(floor);
     }
   }
   out.line_seen = out.line_points.size() >= 2;

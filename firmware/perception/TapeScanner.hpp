@@ -32,7 +32,7 @@ class TapeScanner {
   const CameraModel& cam_;
   FirmwareConfig::Mission mission_;
   int rows_[TapeObservation::kBands];
-  int step_;            // sample every step_ pixels along a row
+  int step_;  // sample every step_ pixels along a row
   int min_band_samples_;
   int min_end_samples_;
 };

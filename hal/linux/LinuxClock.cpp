@@ -13,9 +13,13 @@ TimeNs read_monotonic() {
 }
 }  // namespace
 
-TimeNs LinuxClock::now_ns() const { return read_monotonic(); }
+TimeNs LinuxClock::now_ns() const {
+  return read_monotonic();
+}
 
-TimeNs LinuxClock::cpu_now_ns() const { return read_monotonic(); }
+TimeNs LinuxClock::cpu_now_ns() const {
+  return read_monotonic();
+}
 
 void LinuxClock::sleep_until_ns(TimeNs t) {
   timespec ts{};

@@ -47,7 +47,9 @@ SimWheelDrives::SimWheelDrives(int count) : count_(count) {
   fb_.count = static_cast<std::uint8_t>(count);
 }
 
-void SimWheelDrives::enable() { enable_requested_.fill(true); }
+void SimWheelDrives::enable() {
+  enable_requested_.fill(true);
+}
 
 void SimWheelDrives::disable() {
   enable_requested_.fill(false);
@@ -78,7 +80,9 @@ void SimWheelDrives::set_velocity(const float* radps, int n) {
   for (int i = 0; i < n && i < kMaxWheels; ++i) setpoint_[i] = radps[i];
 }
 
-void SimWheelDrives::read(WheelFeedbackSet& out) const { out = fb_; }
+void SimWheelDrives::read(WheelFeedbackSet& out) const {
+  out = fb_;
+}
 
 void SimWheelDrives::sync(float* target_radps) {
   for (int i = 0; i < count_; ++i) {

@@ -22,11 +22,21 @@ inline void note() {
 }  // namespace
 
 namespace carril::alloc {
-void begin_window() { g_in_window = true; }
-void end_window() { g_in_window = false; }
-std::uint64_t count_in_windows() { return g_in_windows; }
-std::uint64_t count_total() { return g_total; }
-bool counts_malloc() { return CARRIL_COUNT_MALLOC != 0; }
+void begin_window() {
+  g_in_window = true;
+}
+void end_window() {
+  g_in_window = false;
+}
+std::uint64_t count_in_windows() {
+  return g_in_windows;
+}
+std::uint64_t count_total() {
+  return g_total;
+}
+bool counts_malloc() {
+  return CARRIL_COUNT_MALLOC != 0;
+}
 }  // namespace carril::alloc
 
 #if CARRIL_COUNT_MALLOC
@@ -64,7 +74,9 @@ int posix_memalign(void** out, std::size_t a, std::size_t n) {
   *out = p;
   return 0;
 }
-void free(void* p) { __libc_free(p); }
+void free(void* p) {
+  __libc_free(p);
+}
 }
 #define CARRIL_RAW_ALLOC(n) __libc_malloc(n)
 #define CARRIL_RAW_ALIGNED(a, n) __libc_memalign(a, n)
@@ -81,23 +93,45 @@ void* operator new(std::size_t n) {
   if (void* p = CARRIL_RAW_ALLOC(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new[](std::size_t n) {
+  return operator new(n);
+}
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
   note();
   return CARRIL_RAW_ALLOC(n ? n : 1);
 }
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept {
+  return operator new(n, t);
+}
 void* operator new(std::size_t n, std::align_val_t a) {
   note();
   if (void* p = CARRIL_RAW_ALIGNED(std::size_t(a), n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
-void operator delete(void* p) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete[](void* p) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete(void* p, std::size_t) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete[](void* p, std::size_t) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete(void* p, std::align_val_t) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { CARRIL_RAW_FREE(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { CARRIL_RAW_FREE(p); }
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return operator new(n, a);
+}
+void operator delete(void* p) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete[](void* p) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  CARRIL_RAW_FREE(p);
+}

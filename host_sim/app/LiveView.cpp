@@ -10,7 +10,9 @@ namespace carril::sim {
 
 namespace {
 const char* kWindow = "carril_sim";
-cv::Scalar bgr(Rgb c) { return cv::Scalar(c.b, c.g, c.r); }
+cv::Scalar bgr(Rgb c) {
+  return cv::Scalar(c.b, c.g, c.r);
+}
 }  // namespace
 
 struct LiveView::Impl {
@@ -28,9 +30,11 @@ struct LiveView::Impl {
       y0 = std::min(y0, y);
       y1 = std::max(y1, y);
     };
-    for (const auto& l : s.lines) for (const auto& p : l.points) grow(p.x, p.y);
+    for (const auto& l : s.lines)
+      for (const auto& p : l.points) grow(p.x, p.y);
     for (const auto& o : s.obstacles) grow(o.center.x, o.center.y);
-    for (const auto& w : s.walls) for (const auto& p : w.points) grow(p.x, p.y);
+    for (const auto& w : s.walls)
+      for (const auto& p : w.points) grow(p.x, p.y);
     x0 -= 1.5, x1 += 1.5, y0 -= 1.5, y1 += 1.5;
     scale = std::min(800.0 / (x1 - x0), 800.0 / (y1 - y0));
     min_x = x0;
@@ -41,12 +45,15 @@ struct LiveView::Impl {
       for (const auto& p : l.points) pts.push_back(px(p.x, p.y));
       cv::polylines(background, pts, false, bgr(l.color), std::max(1, int(l.width_m * scale)));
     }
-    for (const auto& m : s.marks) cv::circle(background, px(m.center.x, m.center.y), int(m.radius_m * scale), bgr(m.color), -1);
+    for (const auto& m : s.marks)
+      cv::circle(background, px(m.center.x, m.center.y), int(m.radius_m * scale), bgr(m.color), -1);
     for (const auto& o : s.obstacles) {
       if (o.shape == ObstacleShape::Cylinder) {
-        cv::circle(background, px(o.center.x, o.center.y), int(o.radius_m * scale), cv::Scalar(50, 50, 50), -1);
+        cv::circle(background, px(o.center.x, o.center.y), int(o.radius_m * scale),
+                   cv::Scalar(50, 50, 50), -1);
       } else {
-        const cv::RotatedRect r(px(o.center.x, o.center.y), cv::Size2f(float(o.size_x_m * scale), float(o.size_y_m * scale)),
+        const cv::RotatedRect r(px(o.center.x, o.center.y),
+                                cv::Size2f(float(o.size_x_m * scale), float(o.size_y_m * scale)),
                                 float(-o.yaw_rad * 180.0 / M_PI));
         cv::Point2f c[4];
         r.points(c);
@@ -56,12 +63,15 @@ struct LiveView::Impl {
     }
     for (const auto& w : s.walls) {
       for (std::size_t i = 0; i + 1 < w.points.size(); ++i) {
-        cv::line(background, px(w.points[i].x, w.points[i].y), px(w.points[i + 1].x, w.points[i + 1].y),
-                 cv::Scalar(30, 30, 30), std::max(1, int(w.thickness_m * scale)));
+        cv::line(background, px(w.points[i].x, w.points[i].y),
+                 px(w.points[i + 1].x, w.points[i + 1].y), cv::Scalar(30, 30, 30),
+                 std::max(1, int(w.thickness_m * scale)));
       }
     }
   }
-  cv::Point px(double x, double y) const { return {int((x - min_x) * scale), int((max_y - y) * scale)}; }
+  cv::Point px(double x, double y) const {
+    return {int((x - min_x) * scale), int((max_y - y) * scale)};
+  }
 };
 
 std::unique_ptr<LiveView> LiveView::open(const Scenario& scenario, std::string& why) {
@@ -75,7 +85,9 @@ std::unique_ptr<LiveView> LiveView::open(const Scenario& scenario, std::string& 
 }
 
 LiveView::LiveView(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-LiveView::~LiveView() { cv::destroyAllWindows(); }
+LiveView::~LiveView() {
+  cv::destroyAllWindows();
+}
 
 bool LiveView::update(SimRun& run, double dt_s) {
   Impl& v = *impl_;
@@ -89,24 +101,29 @@ bool LiveView::update(SimRun& run, double dt_s) {
   if (v.path.size() > 1) cv::polylines(top, v.path, false, cv::Scalar(255, 120, 0), 2);
   const Pose2 p = run.topology().world.pose();
   const RobotSpec& r = run.scenario().robot;
-  const cv::RotatedRect body(v.px(p.x, p.y), cv::Size2f(float(r.length_m * v.scale), float(r.width_m * v.scale)),
+  const cv::RotatedRect body(v.px(p.x, p.y),
+                             cv::Size2f(float(r.length_m * v.scale), float(r.width_m * v.scale)),
                              float(-p.yaw_rad * 180.0 / M_PI));
   cv::Point2f c[4];
   body.points(c);
   for (int i = 0; i < 4; ++i) cv::line(top, c[i], c[(i + 1) % 4], cv::Scalar(0, 0, 255), 2);
-  cv::putText(top, cv::format("t %.1f s  %s  progress %.2f", run.sim_time_s(), run.state_name(), run.progress()),
-              {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 2);
+  cv::putText(
+      top,
+      cv::format("t %.1f s  %s  progress %.2f", run.sim_time_s(), run.state_name(), run.progress()),
+      {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 2);
 
   const hal::CameraFrame& f = run.topology().camera.back_buffer();
   cv::Mat cam(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.bgr.data()));
   cv::Mat cam_small;
   const double k = double(top.rows) / std::max(1, cam.rows) * 0.6;
   cv::resize(cam, cam_small, cv::Size(), k, k);
-  cv::Mat canvas(std::max(top.rows, cam_small.rows + 40), top.cols + cam_small.cols, CV_8UC3, cv::Scalar(40, 40, 40));
+  cv::Mat canvas(std::max(top.rows, cam_small.rows + 40), top.cols + cam_small.cols, CV_8UC3,
+                 cv::Scalar(40, 40, 40));
   top.copyTo(canvas(cv::Rect(0, 0, top.cols, top.rows)));
   cam_small.copyTo(canvas(cv::Rect(top.cols, 0, cam_small.cols, cam_small.rows)));
   cv::putText(canvas, cv::format("camera %dx%d (robot's view, up = ahead)", f.width, f.height),
-              {top.cols + 10, cam_small.rows + 28}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(230, 230, 230), 1);
+              {top.cols + 10, cam_small.rows + 28}, cv::FONT_HERSHEY_SIMPLEX, 0.6,
+              cv::Scalar(230, 230, 230), 1);
   cv::imshow(kWindow, canvas);
   const int key = cv::waitKey(1);
   if (key == 'q' || key == 27) return false;

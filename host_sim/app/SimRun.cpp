@@ -9,7 +9,9 @@
 namespace carril::sim {
 
 namespace {
-hal::TimeNs period_ns(double hz) { return static_cast<hal::TimeNs>(std::llround(1e9 / hz)); }
+hal::TimeNs period_ns(double hz) {
+  return static_cast<hal::TimeNs>(std::llround(1e9 / hz));
+}
 
 std::string format_event(const fw::Event& e) {
   char buf[160];
@@ -18,7 +20,8 @@ std::string format_event(const fw::Event& e) {
     std::snprintf(buf, sizeof buf, "%9.3f s  FAULT %s (code 0x%04X) in %s: safe stop", t,
                   fw::fault_name(e.fault), unsigned(e.code), fw::state_name(e.from));
   } else {
-    std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from), fw::state_name(e.to));
+    std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from),
+                  fw::state_name(e.to));
   }
   return buf;
 }
@@ -36,9 +39,13 @@ SimRun::SimRun(const Scenario& scenario, std::uint64_t seed)
   rows_.reserve(std::size_t(scenario.duration_s * scenario.robot.control_rate_hz) + 16);
 }
 
-const char* SimRun::state_name() const { return fw::state_name(topo_.controller->state()); }
+const char* SimRun::state_name() const {
+  return fw::state_name(topo_.controller->state());
+}
 
-std::uint64_t SimRun::allocations_in_ticks() const { return alloc::count_in_windows() - alloc_base_; }
+std::uint64_t SimRun::allocations_in_ticks() const {
+  return alloc::count_in_windows() - alloc_base_;
+}
 
 void SimRun::publish_sensors(hal::TimeNs t) {
   SimWorld& w = topo_.world;
@@ -94,7 +101,8 @@ bool SimRun::step() {
   s.following = st == fw::MissionState::Follow;
   s.in_end_state = st == fw::MissionState::End;
   const double ct = metrics_.add(s);
-  rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps, fw::state_name(st), ct});
+  rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps,
+                   fw::state_name(st), ct});
   for (const ContactStart& c : topo_.world.take_new_contacts()) {
     metrics_.add_collision();
     collisions_.push_back({s.t_s, c.x, c.y});
@@ -171,18 +179,21 @@ RunSummary SimRun::summary(double wall_time_s) {
   if (r.result == "fault") r.unmet_expectations.push_back("run ended in fault " + r.fault);
   if (r.result == "aborted") r.unmet_expectations.emplace_back("run was aborted");
   if (x.end_reached && *x.end_reached != r.end_reached) {
-    miss("end_reached: expected %.0f, got %.0f", *x.end_reached ? 1.0 : 0.0, r.end_reached ? 1.0 : 0.0);
+    miss("end_reached: expected %.0f, got %.0f", *x.end_reached ? 1.0 : 0.0,
+         r.end_reached ? 1.0 : 0.0);
   }
   if (x.max_collisions && r.collisions > *x.max_collisions) {
     miss("max_collisions: expected <= %.0f, got %.0f", *x.max_collisions, r.collisions);
   }
   if (x.max_cross_track_rms_m && !(r.cross_track_rms_m <= *x.max_cross_track_rms_m)) {
-    miss("max_cross_track_rms_m: expected <= %.4f, got %.4f", *x.max_cross_track_rms_m, r.cross_track_rms_m);
+    miss("max_cross_track_rms_m: expected <= %.4f, got %.4f", *x.max_cross_track_rms_m,
+         r.cross_track_rms_m);
   }
   if (x.min_progress && r.progress < *x.min_progress - 1e-9) {
     miss("min_progress: expected >= %.3f, got %.3f", *x.min_progress, r.progress);
   }
-  if (x.min_laps && r.laps < *x.min_laps) miss("min_laps: expected >= %.0f, got %.0f", *x.min_laps, r.laps);
+  if (x.min_laps && r.laps < *x.min_laps)
+    miss("min_laps: expected >= %.0f, got %.0f", *x.min_laps, r.laps);
   r.passed = r.unmet_expectations.empty();
   return r;
 }

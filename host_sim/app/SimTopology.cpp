@@ -6,7 +6,9 @@ namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-fw::Rgb8 rgb8(Rgb c) { return {c.r, c.g, c.b}; }
+fw::Rgb8 rgb8(Rgb c) {
+  return {c.r, c.g, c.b};
+}
 }  // namespace
 
 fw::FirmwareConfig firmware_config(const Scenario& s) {

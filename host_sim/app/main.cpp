@@ -18,7 +18,9 @@
 
 namespace {
 std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
+extern "C" void on_signal(int) {
+  g_stop.store(true);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -66,9 +68,11 @@ int main(int argc, char** argv) {
 
   carril::sim::SimRun run(scenario, seed);
   if (!quiet) {
-    std::printf("carril_sim: scenario %s (%s), robot %s, strategy %s, seed %llu, %.0f s simulated\n",
-                scenario.name.c_str(), scenario.source_path.c_str(), scenario.robot.preset.c_str(),
-                scenario.mission.strategy.c_str(), static_cast<unsigned long long>(seed), scenario.duration_s);
+    std::printf(
+        "carril_sim: scenario %s (%s), robot %s, strategy %s, seed %llu, %.0f s simulated\n",
+        scenario.name.c_str(), scenario.source_path.c_str(), scenario.robot.preset.c_str(),
+        scenario.mission.strategy.c_str(), static_cast<unsigned long long>(seed),
+        scenario.duration_s);
   }
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
@@ -93,7 +97,8 @@ int main(int argc, char** argv) {
     if (!quiet && now - last_progress > std::chrono::seconds(2)) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - t0).count();
-      std::fprintf(stderr, "  [%6.1f / %.0f s simulated, %5.1fx real time] state %s, progress %.2f\n",
+      std::fprintf(stderr,
+                   "  [%6.1f / %.0f s simulated, %5.1fx real time] state %s, progress %.2f\n",
                    run.sim_time_s(), scenario.duration_s, run.sim_time_s() / wall, run.state_name(),
                    run.progress());
     }
@@ -105,18 +110,20 @@ int main(int argc, char** argv) {
   const carril::sim::RunSummary summary = run.summary(wall);
 
   std::string error;
-  if (!carril::sim::write_run_outputs(out_dir, scenario, run.rows(), run.collisions(), summary, error)) {
+  if (!carril::sim::write_run_outputs(out_dir, scenario, run.rows(), run.collisions(), summary,
+                                      error)) {
     std::fprintf(stderr, "carril_sim: writing outputs: %s\n", error.c_str());
     return 2;
   }
   std::printf(
-      "carril_sim: %s: %s, %s after %.1f s simulated in %.2f s wall (%.0fx real time); progress %.3f, "
+      "carril_sim: %s: %s, %s after %.1f s simulated in %.2f s wall (%.0fx real time); progress "
+      "%.3f, "
       "laps %d, collisions %d, cross-track rms %.4f m, max %.4f m, tick p99 %.1f us, heap "
       "allocations in ticks %ld\n",
       scenario.name.c_str(), summary.passed ? "PASSED" : "FAILED", summary.result.c_str(),
-      summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.progress, summary.laps,
-      summary.collisions, summary.cross_track_rms_m, summary.cross_track_max_m, summary.tick_compute_p99_us,
-      summary.heap_allocations_after_init);
+      summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.progress,
+      summary.laps, summary.collisions, summary.cross_track_rms_m, summary.cross_track_max_m,
+      summary.tick_compute_p99_us, summary.heap_allocations_after_init);
   for (const std::string& u : summary.unmet_expectations) std::printf("  unmet: %s\n", u.c_str());
   std::printf("carril_sim: wrote %s/{trajectory.csv,summary.json,trajectory.png,velocities.png}\n",
               out_dir.c_str());

@@ -70,8 +70,8 @@ struct RobotSpec {
 };
 
 struct MissionSpec {
-  std::string type = "follow_line";    // follow_line
-  std::string strategy = "pid";        // line_priority | marks | pid
+  std::string type = "follow_line";  // follow_line
+  std::string strategy = "pid";      // line_priority | marks | pid
   Rgb line_color{255, 255, 255};
   std::string line_color_name = "white";  // name as written, or "[r, g, b]"
   Rgb end_color{255, 255, 0};

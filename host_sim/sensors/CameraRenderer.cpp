@@ -8,7 +8,7 @@ namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-constexpr int kShift = 4;  // sub-pixel bits for cv::fillConvexPoly
+constexpr int kShift = 4;        // sub-pixel bits for cv::fillConvexPoly
 constexpr double kNearZ = 0.02;  // clip polygons this close to the camera plane [m]
 
 std::vector<Vec2> disk(Vec2 c, double r, int n) {
@@ -54,14 +54,16 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
       const double len = std::hypot(b.x - a.x, b.y - a.y);
       if (len < 1e-9) continue;
       const double nx = -(b.y - a.y) / len * h, ny = (b.x - a.x) / len * h;
-      add_poly({{a.x + nx, a.y + ny}, {b.x + nx, b.y + ny}, {b.x - nx, b.y - ny}, {a.x - nx, a.y - ny}},
-               l.color);
+      add_poly(
+          {{a.x + nx, a.y + ny}, {b.x + nx, b.y + ny}, {b.x - nx, b.y - ny}, {a.x - nx, a.y - ny}},
+          l.color);
       // Round joins, so corners have no notch (only where the direction changes noticeably).
       if (i + 2 < l.points.size()) {
         const Vec2 c = l.points[i + 2];
         const double cross = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
         const double len2 = std::hypot(c.x - b.x, c.y - b.y);
-        if (len2 > 1e-9 && std::fabs(cross / (len * len2)) > 0.05) add_poly(disk(b, h, 16), l.color);
+        if (len2 > 1e-9 && std::fabs(cross / (len * len2)) > 0.05)
+          add_poly(disk(b, h, 16), l.color);
       }
     }
   }
@@ -77,14 +79,16 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
   // Nothing beyond the far corner of the image footprint can be visible; 3x covers tilts near
   // the horizon while keeping the cull useful.
   const CameraSpec& cs = scenario.robot.camera;
-  const double far_angle = std::max(cs.tilt_deg * kDeg - std::atan2(cs.height / 2.0, cam_.fx()), 0.05);
+  const double far_angle =
+      std::max(cs.tilt_deg * kDeg - std::atan2(cs.height / 2.0, cam_.fx()), 0.05);
   view_radius_m_ = std::min(3.0 * cs.z_m / std::tan(far_angle) + 1.0, 30.0);
   if (noise_std_ > 0) {
     // A table of noise samples, read from a random offset each frame: per-pixel Gaussian draws
     // would cost more than the rest of the simulation together.
     std::normal_distribution<double> n(0.0, noise_std_);
     noise_.resize(1 << 20);
-    for (auto& v : noise_) v = static_cast<std::int16_t>(std::lround(std::clamp(n(rng_), -255.0, 255.0)));
+    for (auto& v : noise_)
+      v = static_cast<std::int16_t>(std::lround(std::clamp(n(rng_), -255.0, 255.0)));
   }
 }
 
@@ -148,8 +152,8 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
     }
     any_inside = umax >= -1 && umin <= cs.width && vmax >= -1 && vmin <= cs.height;
     if (!any_inside) continue;
-    cv::fillConvexPoly(img, px.data(), int(px.size()), cv::Scalar(poly.color.b, poly.color.g, poly.color.r),
-                       cv::LINE_8, kShift);
+    cv::fillConvexPoly(img, px.data(), int(px.size()),
+                       cv::Scalar(poly.color.b, poly.color.g, poly.color.r), cv::LINE_8, kShift);
   }
 
   if (noise_std_ > 0) {

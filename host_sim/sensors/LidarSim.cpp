@@ -25,7 +25,9 @@ class ClosestHit : public b2RayCastCallback {
 }  // namespace
 
 LidarSim::LidarSim(const LidarSpec& spec, std::uint64_t seed)
-    : spec_(spec), rng_(seed ^ 0x1D4A5ULL), noise_(0.0, spec.noise_std_m > 0 ? spec.noise_std_m : 1.0) {}
+    : spec_(spec),
+      rng_(seed ^ 0x1D4A5ULL),
+      noise_(0.0, spec.noise_std_m > 0 ? spec.noise_std_m : 1.0) {}
 
 void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
   const Pose2 p = world.pose();
@@ -44,7 +46,8 @@ void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
   const b2Vec2 origin{float(ox), float(oy)};
   for (int i = 0; i < n; ++i) {
     const double a = p.yaw_rad + spec_.yaw_deg * kDeg - fov / 2 + i * inc;
-    const b2Vec2 end{float(ox + std::cos(a) * spec_.range_max_m), float(oy + std::sin(a) * spec_.range_max_m)};
+    const b2Vec2 end{float(ox + std::cos(a) * spec_.range_max_m),
+                     float(oy + std::sin(a) * spec_.range_max_m)};
     ClosestHit hit(world.robot_body());
     world.world().RayCast(&hit, origin, end);
     float r = std::numeric_limits<float>::infinity();

@@ -77,7 +77,9 @@ SimWorld::SimWorld(const Scenario& scenario)
   robot_->CreateFixture(&fd);
 }
 
-SimWorld::~SimWorld() { world_->SetContactListener(nullptr); }
+SimWorld::~SimWorld() {
+  world_->SetContactListener(nullptr);
+}
 
 void SimWorld::add_static_box(double cx, double cy, double yaw, double hx, double hy) {
   b2BodyDef bd;
@@ -99,8 +101,10 @@ void SimWorld::step(double dt) {
   const double dw_max = lim.max_wheel_accel_radps2 * dt;
   for (int i = 0; i < kin_.wheel_count(); ++i) {
     const auto k = std::size_t(i);
-    const double want = std::clamp(double(target_[k]), -lim.max_wheel_speed_radps, lim.max_wheel_speed_radps);
-    const double w = double(wheel_speed_[k]) + std::clamp(want - double(wheel_speed_[k]), -dw_max, dw_max);
+    const double want =
+        std::clamp(double(target_[k]), -lim.max_wheel_speed_radps, lim.max_wheel_speed_radps);
+    const double w =
+        double(wheel_speed_[k]) + std::clamp(want - double(wheel_speed_[k]), -dw_max, dw_max);
     wheel_pos_[k] += 0.5 * (double(wheel_speed_[k]) + w) * dt;
     wheel_speed_[k] = float(w);
   }

@@ -14,7 +14,9 @@ namespace carril::sim {
 namespace {
 
 // Keeps the compiler from eliding an allocation/free pair (allowed since C++14).
-void escape(void* p) { asm volatile("" : : "g"(p) : "memory"); }
+void escape(void* p) {
+  asm volatile("" : : "g"(p) : "memory");
+}
 
 TEST(AllocationTest, CounterSeesAnAllocationInsideAWindow) {
   // Control: the counter is live, so a zero below means something.

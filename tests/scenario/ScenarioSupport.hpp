@@ -12,7 +12,8 @@ namespace carril::sim::test {
 inline Scenario load_repo_scenario(const std::string& name) {
   const char* d = std::getenv("CARRIL_ROBOTS_DIR");
   const std::string robots = d ? d : std::string(CARRIL_SOURCE_DIR) + "/config/robots";
-  LoadResult r = load_scenario(std::string(CARRIL_SOURCE_DIR) + "/scenarios/" + name + ".yaml", robots);
+  LoadResult r =
+      load_scenario(std::string(CARRIL_SOURCE_DIR) + "/scenarios/" + name + ".yaml", robots);
   EXPECT_TRUE(r.ok) << r.error;
   return r.scenario;
 }

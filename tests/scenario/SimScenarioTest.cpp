@@ -63,9 +63,12 @@ Scenario noisy_square() {
 bool same_rows(const std::vector<TrajectoryRow>& a, const std::vector<TrajectoryRow>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const double va[] = {a[i].t, a[i].x, a[i].y, a[i].yaw, a[i].vx, a[i].vy, a[i].wz, a[i].cross_track_m};
-    const double vb[] = {b[i].t, b[i].x, b[i].y, b[i].yaw, b[i].vx, b[i].vy, b[i].wz, b[i].cross_track_m};
-    if (std::memcmp(va, vb, sizeof va) != 0 || std::strcmp(a[i].state, b[i].state) != 0) return false;
+    const double va[] = {a[i].t,  a[i].x,  a[i].y,  a[i].yaw,
+                         a[i].vx, a[i].vy, a[i].wz, a[i].cross_track_m};
+    const double vb[] = {b[i].t,  b[i].x,  b[i].y,  b[i].yaw,
+                         b[i].vx, b[i].vy, b[i].wz, b[i].cross_track_m};
+    if (std::memcmp(va, vb, sizeof va) != 0 || std::strcmp(a[i].state, b[i].state) != 0)
+      return false;
   }
   return true;
 }
@@ -150,7 +153,8 @@ TEST(FaultInjectionTest, DriveFaultStopsTheRobot) {
   Scenario s;
   SimRun* run = nullptr;
   const RunSummary r = run_with_fault(
-      5.0, [](SimTopology& t) { t.drives.inject_fault(2, hal::DriveFault::HeartbeatLost); }, run, s);
+      5.0, [](SimTopology& t) { t.drives.inject_fault(2, hal::DriveFault::HeartbeatLost); }, run,
+      s);
   expect_safe_stop(*run, r, "drive_fault");
 }
 

@@ -20,7 +20,8 @@ Scenario box_scenario(const char* preset, const char* extra = "") {
   std::string yaml = std::string(R"(
 name: lidar_box
 duration_s: 1
-robot: {preset: )") + preset + R"(}
+robot: {preset: )") + preset +
+                     R"(}
 mission: {type: follow_line, strategy: marks, line_color: white}
 lines: [{color: white, width_m: 0.05, points: [[-20, -20], [-19, -20]]}]
 obstacles: [{shape: box, x: 3.0, y: 0.0, size_m: [1.0, 1.0]}]
