@@ -1,16 +1,32 @@
 #!/usr/bin/env bash
 # Every test: install what is missing, build the host preset, run all of CTest (unit, simulator,
 # scenario and CLI tests), then cross-build firmware/ and hal/ for aarch64 and run the robot
-# target's smoke test under qemu.
+# target's smoke test under qemu. Ends with one line: "carril: N passed, N failed".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 jobs=$(nproc)
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+rc=0
 echo "== host: configure, build, test"
 cmake --preset host >/dev/null
 cmake --build --preset host -j"$jobs"
-ctest --preset host -j"$jobs"
+ctest --preset host -j"$jobs" 2>&1 | tee "$logs/host.log" || rc=1
 echo "== aarch64: cross-build firmware, hal and the robot target; smoke test under qemu"
 cmake --preset aarch64 >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
-ctest --preset aarch64
+ctest --preset aarch64 2>&1 | tee "$logs/aarch64.log" || rc=1
+# CTest's own summary: "N% tests passed, F tests failed out of T".
+total=0
+failed=0
+for f in "$logs"/*.log; do
+  line=$(grep -E 'tests passed, [0-9]+ tests failed out of [0-9]+' "$f" | tail -1) || { rc=1; continue; }
+  t=$(sed -E 's/.* out of ([0-9]+).*/\1/' <<<"$line")
+  x=$(sed -E 's/.*passed, ([0-9]+) tests failed.*/\1/' <<<"$line")
+  total=$((total + t))
+  failed=$((failed + x))
+done
+echo "carril: $((total - failed)) passed, $failed failed"
+[ "$failed" -eq 0 ] || rc=1
+exit $rc
