@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   g++-aarch64-linux-gnu qemu-user
   can-utils kmod
+  python3
 )
 missing=()
 for p in "${packages[@]}"; do

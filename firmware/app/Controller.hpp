@@ -8,16 +8,20 @@
 #include "firmware/app/Faults.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/Frames.hpp"
+#include "firmware/behavior/BypassPlanner.hpp"
+#include "firmware/behavior/MissionBehavior.hpp"
 #include "firmware/behavior/MissionState.hpp"
+#include "firmware/control/LineController.hpp"
 #include "firmware/control/MotionLimiter.hpp"
-#include "firmware/control/PursuitFollower.hpp"
 #include "firmware/core/LatencyStats.hpp"
 #include "firmware/core/RingBuffer.hpp"
 #include "firmware/core/TaskTable.hpp"
 #include "firmware/estimation/Odometry.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/perception/CameraModel.hpp"
-#include "firmware/perception/TapeScanner.hpp"
+#include "firmware/perception/LineDetector.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/perception/TapeMap.hpp"
 #include "hal/Clock.hpp"
 
 namespace carril::fw {
@@ -29,13 +33,13 @@ struct Telemetry {
   double tick_budget_us = 0.0;
   double tick_p50_us = 0.0, tick_p99_us = 0.0, tick_max_us = 0.0;
   StaticVector<TaskCounters, TaskTable::kMaxTasks> tasks;
-  MissionState state = MissionState::Init;
+  MissionState state = MissionState::Start;
+  const char* phase = "";
   Fault fault = Fault::None;  // latched fault, if any
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts{};
   std::uint32_t line_lost_events = 0;
   std::uint32_t line_reacquired_events = 0;
   std::uint32_t obstacles_avoided = 0;
-  std::uint32_t protective_stops = 0;
   std::uint64_t invalid_beams = 0;  // NaN, inf, zero or out-of-limits lidar ranges seen
   std::uint64_t frames_processed = 0;
   Pose2 odom;
@@ -53,12 +57,15 @@ class Controller {
   // One control period.
   ActuatorCommand tick(const SensorFrame& frame);
 
-  MissionState state() const { return state_; }
+  MissionState state() const {
+    return fault_ != Fault::None ? MissionState::Fault : behavior_.state();
+  }
   const Telemetry& telemetry() const { return telemetry_; }
   void refresh_telemetry();
   // Events since the last drain, oldest first (outside the tick).
   RingBuffer<Event, kEventLog>& events() { return events_; }
-  const TapeObservation& observation() const { return obs_; }
+  const LineDetection& detection() const { return det_; }
+  const TapeMap& tape_map() const { return map_; }
   const FirmwareConfig& config() const { return cfg_; }
   double period_s() const { return period_s_; }
 
@@ -70,19 +77,23 @@ class Controller {
   void task_behavior();
   void task_telemetry();
 
-  void set_state(MissionState s);
+  void log_state(MissionState from, MissionState to);
   void raise(Fault f, std::uint16_t code = 0);
   double now_s() const { return double(frame_->now_ns) * 1e-9; }
-  double in_state_s() const { return now_s() - state_since_s_; }
+  bool detect(const hal::CameraFrame& frame);
 
   FirmwareConfig cfg_;
   const hal::Clock& clock_;
   double period_s_;
   DriveKinematics kin_;
   CameraModel cam_;
-  TapeScanner scanner_;
+  LineDetector detector_;
   Odometry odom_;
-  PursuitFollower follower_;
+  TapeMap map_;
+  ObstacleField obstacles_;
+  LineController line_;
+  BypassPlanner planner_;
+  MissionBehavior behavior_;
   MotionLimiter limiter_;
   TaskTable tasks_;
   LatencyStats tick_stats_;
@@ -93,27 +104,19 @@ class Controller {
   ActuatorCommand cmd_;
   Telemetry telemetry_;
   RingBuffer<Event, kEventLog> events_;
-
-  MissionState state_ = MissionState::Init;
-  double state_since_s_ = 0.0;
   Fault fault_ = Fault::None;
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts_{};
 
-  TapeObservation obs_;
+  LineDetection det_;
   std::uint32_t last_frame_seq_ = 0;
   double last_frame_s_ = 0.0;
-  bool fresh_obs_ = false;  // obs_ came from a frame processed this tick
-  int frames_without_line_ = 0;
-  double last_line_side_ = 1.0;  // +1 left, -1 right: where the tape was last seen
+  bool fresh_frame_ = false;
   std::uint32_t last_scan_seq_ = 0;
   double last_scan_s_ = 0.0;
-  bool obstacle_ahead_ = false;
-  double clear_since_s_ = 0.0;
-  double search_start_yaw_ = 0.0, search_turned_ = 0.0;
-  Vec2 end_mark_odom_ = Vec2::Zero();
-  bool end_done_ = false;
-  std::uint32_t line_lost_ = 0, line_reacquired_ = 0, protective_stops_ = 0;
-  std::uint64_t invalid_beams_ = 0, frames_processed_ = 0;
+  bool fresh_scan_ = false;
+  bool end_known_ = false;
+  Vec2 end_odom_ = Vec2::Zero();
+  std::uint64_t frames_processed_ = 0;
 };
 
 }  // namespace carril::fw

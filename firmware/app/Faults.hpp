@@ -11,7 +11,8 @@ enum class Fault : std::uint8_t {
   ScannerTimeout,      // no new lidar scan within lidar.timeout_s
   DriveFault,          // a wheel drive reports Fault (its code is in the event)
   DriveEnableTimeout,  // drives did not reach Operation enabled in time
-  LineNotFound,        // a full search turn found no tape
+  LineNotFound,        // the search found no tape
+  PathBlocked,         // an obstacle on the tape with no room to pass either side
   Count,
 };
 
@@ -31,6 +32,8 @@ inline const char* fault_name(Fault f) {
       return "drive_enable_timeout";
     case Fault::LineNotFound:
       return "line_not_found";
+    case Fault::PathBlocked:
+      return "path_blocked";
     case Fault::Count:
       break;
   }

@@ -3,14 +3,13 @@
 // file fills it (the simulator from the scenario and robot preset).
 #include <cstdint>
 
+#include "firmware/behavior/MissionBehavior.hpp"
+#include "firmware/control/LineController.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/perception/CameraModel.hpp"
+#include "firmware/perception/LineDetector.hpp"
 
 namespace carril::fw {
-
-struct Rgb8 {
-  std::uint8_t r = 0, g = 0, b = 0;
-};
 
 struct FirmwareConfig {
   double rate_hz = 100.0;  // tick rate [Hz]
@@ -34,24 +33,11 @@ struct FirmwareConfig {
     double timeout_s = 1.0;                      // no new scan for this long is a fault [s]
   } lidar;
 
-  struct Mission {
-    Rgb8 line_color{255, 255, 255};
-    Rgb8 end_color{255, 255, 0};
-    double speed_mps = 0.5;    // cruise speed [m/s]
-    int color_tolerance = 70;  // max per-channel difference to count as the colour [0..255]
-  } mission;
-
-  struct Follower {
-    double lookahead_m = 0.0;  // pursuit distance from the robot centre; 0 = near edge of view [m]
-    double curvature_slowdown_m = 0.6;   // v = cruise / (1 + this * |curvature|)
-    double search_yaw_rate_radps = 0.6;  // turn rate while looking for a lost line [rad/s]
-    double search_max_turn_rad = 6.6;    // give up (fault) after turning this far [rad]
-    double end_approach_gain = 1.2;      // speed per metre to the end mark [1/s]
-    double end_tolerance_m = 0.01;       // stop this close to the mark [m]
-    double init_timeout_s = 3.0;         // drives and sensors must be up by then [s]
-  } follower;
-
-  double protective_stop_m = 0.30;  // stop if an obstacle is this close ahead of the bumper [m]
+  LineDetectorConfig detector;  // HSV thresholds for the tape and end-mark colours
+  StrategyConfig strategy;      // which follower, its gains and the cruise speed
+  BehaviorConfig behavior;      // state machine and obstacle avoidance parameters
+  double tape_preview_m =
+      0.6;  // how far ahead along the remembered tape corners are looked for [m]
 };
 
 }  // namespace carril::fw

@@ -20,8 +20,12 @@ std::string format_event(const fw::Event& e) {
     std::snprintf(buf, sizeof buf, "%9.3f s  FAULT %s (code 0x%04X) in %s: safe stop", t,
                   fw::fault_name(e.fault), unsigned(e.code), fw::state_name(e.from));
   } else {
-    std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from),
-                  fw::state_name(e.to));
+    if (e.kind == fw::EventKind::Phase) {
+      std::snprintf(buf, sizeof buf, "%9.3f s    %s: %s", t, fw::state_name(e.to), e.phase);
+    } else {
+      std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from),
+                    fw::state_name(e.to));
+    }
   }
   return buf;
 }

@@ -6,8 +6,11 @@ namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-fw::Rgb8 rgb8(Rgb c) {
-  return {c.r, c.g, c.b};
+// A named colour uses its preset window; an [r, g, b] colour a window round it.
+fw::ColorThreshold color_threshold(const std::string& name, Rgb c) {
+  fw::ColorThreshold t;
+  if (fw::color_preset(name.c_str(), t)) return t;
+  return fw::threshold_around_rgb(c.r, c.g, c.b);
 }
 }  // namespace
 
@@ -30,9 +33,15 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   c.lidar.y_m = r.lidar.y_m;
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
   c.lidar.timeout_s = std::max(0.5, 5.0 / r.lidar.rate_hz);
-  c.mission.line_color = rgb8(s.mission.line_color);
-  c.mission.end_color = rgb8(s.mission.end_color);
-  c.mission.speed_mps = s.mission.speed_mps;
+  c.detector.line = color_threshold(s.mission.line_color_name, s.mission.line_color);
+  c.detector.end = color_threshold(s.mission.end_color_name, s.mission.end_color);
+  c.strategy.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority
+                        : s.mission.strategy == "pid"         ? fw::Strategy::Pid
+                                                              : fw::Strategy::Marks;
+  c.strategy.speed_mps = s.mission.speed_mps;
+  c.strategy.pid_straight.speed_mps = s.mission.speed_mps;
+  c.strategy.pid_curve.speed_mps = 0.8 * s.mission.speed_mps;
+  c.behavior.init_timeout_s = 3.0;
   return c;
 }
 

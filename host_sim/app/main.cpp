@@ -26,10 +26,17 @@ extern "C" void on_signal(int) {
 int main(int argc, char** argv) {
   CLI::App cli{"carril_sim: run a carril scenario in the Box2D host simulator"};
   std::string scenario_path, out_dir;
+  carril::sim::ScenarioOverrides overrides;
   std::uint64_t seed = 0;
   bool realtime = false, view = false, quiet = false;
   cli.add_option("--scenario", scenario_path, "scenario file (YAML)")->required();
-  cli.add_option("--out", out_dir, "output directory (default runs/<scenario name>/)");
+  cli.add_option("--out", out_dir,
+                 "output directory (default runs/<scenario name>/, or "
+                 "runs/<scenario name>_<preset>_<strategy>/ with --preset or --strategy)");
+  cli.add_option("--preset", overrides.preset,
+                 "robot preset instead of the scenario's (campero, pioneer3at)");
+  cli.add_option("--strategy", overrides.strategy,
+                 "mission strategy instead of the scenario's (marks, line_priority, pid)");
   auto* seed_opt = cli.add_option("--seed", seed, "random seed (default: the scenario's seed)");
   cli.add_flag("--realtime", realtime, "pace the run to wall-clock time");
   cli.add_flag("--view", view, "open a live window: top view and camera image");
@@ -42,14 +49,19 @@ int main(int argc, char** argv) {
   }
 
   const carril::sim::LoadResult loaded =
-      carril::sim::load_scenario(scenario_path, carril::sim::default_robots_dir());
+      carril::sim::load_scenario(scenario_path, carril::sim::default_robots_dir(), overrides);
   if (!loaded.ok) {
     std::fprintf(stderr, "carril_sim: %s\n", loaded.error.c_str());
     return 2;
   }
   const carril::sim::Scenario& scenario = loaded.scenario;
   if (!seed_opt->count()) seed = scenario.seed;
-  if (out_dir.empty()) out_dir = "runs/" + scenario.name;
+  if (out_dir.empty()) {
+    out_dir = "runs/" + scenario.name;
+    if (!overrides.empty()) {
+      out_dir += "_" + scenario.robot.preset + "_" + scenario.mission.strategy;
+    }
+  }
 
   std::unique_ptr<carril::sim::LiveView> live;
   if (view) {

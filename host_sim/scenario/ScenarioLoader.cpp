@@ -405,6 +405,34 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   return s;
 }
 
+// Writes `value` (when not empty) as the scalar at root.section.key, in the YAML tree, before
+// validation. Only an existing section map is touched: a missing or malformed section is left
+// for the checks to report. An existing key keeps its position (line) in the file; a missing one
+// is added.
+void override_key(const YAML::Node& root, const char* section, const char* key,
+                  const std::string& value) {
+  if (value.empty() || !root.IsMap()) return;
+  // Const lookups: yaml-cpp's non-const operator[] would add the key it looks for.
+  YAML::Node sec = root[section];
+  if (!sec.IsDefined() || !sec.IsMap()) return;
+  sec[key] = value;
+}
+
+void apply_overrides(const YAML::Node& root, const ScenarioOverrides& o) {
+  override_key(root, "robot", "preset", o.preset);
+  override_key(root, "mission", "strategy", o.strategy);
+}
+
+std::string describe_overrides(const ScenarioOverrides& o) {
+  std::string s;
+  if (!o.preset.empty()) s = "robot.preset = " + o.preset;
+  if (!o.strategy.empty()) {
+    if (!s.empty()) s += ", ";
+    s += "mission.strategy = " + o.strategy;
+  }
+  return s;
+}
+
 // Host code may throw anything (yaml-cpp, bad_alloc); callers only ever see ok/error.
 template <typename F>
 bool guarded(const std::string& path, std::string& error, F&& body) {
@@ -425,20 +453,27 @@ bool guarded(const std::string& path, std::string& error, F&& body) {
 
 }  // namespace
 
-LoadResult load_scenario(const std::string& path, const std::string& robots_dir) {
+LoadResult load_scenario(const std::string& path, const std::string& robots_dir,
+                         const ScenarioOverrides& overrides) {
   LoadResult r;
   std::string text;
   if (!guarded(path, r.error, [&] { text = strict::read_file(path); })) return r;
-  return load_scenario_text(text, path, robots_dir);
+  return load_scenario_text(text, path, robots_dir, overrides);
 }
 
 LoadResult load_scenario_text(const std::string& text, const std::string& path,
-                              const std::string& robots_dir) {
+                              const std::string& robots_dir, const ScenarioOverrides& overrides) {
   LoadResult r;
   r.ok = guarded(path, r.error, [&] {
-    r.scenario = parse_scenario(strict::parse_document(text, &path), path, robots_dir);
+    const Node root = strict::parse_document(text, &path);
+    // YAML::Node is a handle: the copy inside shares the tree that root wraps.
+    apply_overrides(root.yaml(), overrides);
+    r.scenario = parse_scenario(root, path, robots_dir);
   });
-  if (!r.ok) r.scenario = Scenario{};
+  if (!r.ok) {
+    r.scenario = Scenario{};
+    if (!overrides.empty()) r.error += " (overridden: " + describe_overrides(overrides) + ")";
+  }
   return r;
 }
 

@@ -13,13 +13,26 @@ struct LoadResult {
   std::string error;
 };
 
+// Values that replace the file's own before anything is checked (carril_sim --preset/--strategy),
+// so every rule holds for them as for the file: an unknown preset or line_priority on a
+// differential robot is rejected just the same. An empty string keeps the file's value. A
+// rejected load whose overrides were set says so at the end of its message.
+struct ScenarioOverrides {
+  std::string preset;    // robot.preset
+  std::string strategy;  // mission.strategy
+
+  bool empty() const { return preset.empty() && strategy.empty(); }
+};
+
 // Reads a scenario file strictly (unknown, missing, mistyped and out-of-range keys are errors)
 // and merges it onto its robot preset, read from <robots_dir>/<preset>.yaml.
-LoadResult load_scenario(const std::string& path, const std::string& robots_dir);
+LoadResult load_scenario(const std::string& path, const std::string& robots_dir,
+                         const ScenarioOverrides& overrides = {});
 
 // Same, from text already in memory; `path` is only used in messages.
 LoadResult load_scenario_text(const std::string& text, const std::string& path,
-                              const std::string& robots_dir);
+                              const std::string& robots_dir,
+                              const ScenarioOverrides& overrides = {});
 
 // Reads one robot preset file strictly.
 bool load_robot_preset(const std::string& path, RobotSpec& out, std::string& error);

@@ -41,7 +41,8 @@ fw::FirmwareConfig robot_config() {
   c.lidar.y_m = -0.35;
   c.lidar.yaw_rad = -45.0 * kDeg;
   c.lidar.timeout_s = 0.5;
-  c.mission.speed_mps = 0.5;
+  c.strategy.strategy = fw::Strategy::LinePriority;  // mecanum: the thesis's best on campero
+  c.strategy.speed_mps = 0.5;
   return c;
 }
 

@@ -1,0 +1,149 @@
+#include "firmware/behavior/BypassPlanner.hpp"
+
+#include <cmath>
+
+namespace carril::fw {
+
+namespace {
+struct TapeFrame {
+  Vec2 o;
+  Vec2 u, n;
+  Vec2 to(const Vec2& p) const { return {(p - o).dot(u), (p - o).dot(n)}; }
+  Vec2 from(double x, double y) const { return o + x * u + y * n; }
+};
+TapeFrame frame_of(const Vec2& o, double h) {
+  return {o, Vec2(std::cos(h), std::sin(h)), Vec2(-std::sin(h), std::cos(h))};
+}
+}  // namespace
+
+BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
+                               double tape_heading) const {
+  BypassPlan p;
+  p.origin = tape_point;
+  p.heading = tape_heading;
+  const TapeFrame tf = frame_of(tape_point, tape_heading);
+  const auto& pts = f.points();
+  const double x_robot = tf.to(Vec2(odom.x, odom.y)).x();
+  // The nearest point ahead within the robot's corridor along the tape.
+  const double half = fp_.half_width_m + cfg_.corridor_margin_m;
+  std::size_t nearest = pts.size();
+  double best = 1e9;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Vec2 q = tf.to(pts[i]);
+    if (q.x() > x_robot && std::fabs(q.y()) <= half && q.x() < best) {
+      best = q.x();
+      nearest = i;
+    }
+  }
+  if (nearest == pts.size()) return p;  // nothing ahead any more
+  // The obstacle: the run of consecutive beams round the nearest hit, gaps under 0.3 m.
+  std::size_t lo = nearest, hi = nearest;
+  while (lo > 0 && (pts[lo - 1] - pts[lo]).norm() < 0.3) --lo;
+  while (hi + 1 < pts.size() && (pts[hi + 1] - pts[hi]).norm() < 0.3) ++hi;
+  p.x_near = 1e9, p.x_far = -1e9, p.y_min = 1e9, p.y_max = -1e9;
+  for (std::size_t i = lo; i <= hi; ++i) {
+    const Vec2 q = tf.to(pts[i]);
+    p.x_near = std::fmin(p.x_near, q.x());
+    p.x_far = std::fmax(p.x_far, q.x());
+    p.y_min = std::fmin(p.y_min, q.y());
+    p.y_max = std::fmax(p.y_max, q.y());
+  }
+  // The far side is not seen yet: assume the obstacle is about as deep as it is wide.
+  p.x_far = std::fmax(p.x_far, p.x_near + std::fmin(p.y_max - p.y_min, 3.0));
+  // Room on each side: the nearest other thing beside the obstacle, along its length.
+  double free_left = cfg_.max_lateral_m, free_right = cfg_.max_lateral_m;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (i >= lo && i <= hi) continue;
+    const Vec2 q = tf.to(pts[i]);
+    if (q.x() < p.x_near - fp_.half_length_m - 0.3 || q.x() > p.x_far + fp_.half_length_m + 0.5)
+      continue;
+    if (q.y() > p.y_max) free_left = std::fmin(free_left, q.y() - p.y_max);
+    if (q.y() < p.y_min) free_right = std::fmin(free_right, p.y_min - q.y());
+  }
+  const double need = 2.0 * (cfg_.clearance_m + fp_.half_width_m);
+  const double reach_left = p.y_max + cfg_.clearance_m + fp_.half_width_m;
+  const double reach_right = -(p.y_min - cfg_.clearance_m - fp_.half_width_m);
+  const bool left_ok = free_left >= need && reach_left <= cfg_.max_lateral_m;
+  const bool right_ok = free_right >= need && reach_right <= cfg_.max_lateral_m;
+  if (!left_ok && !right_ok) {
+    p.blocked = true;
+    return p;
+  }
+  // The freer side; the shorter detour when both are ample.
+  if (left_ok && right_ok) {
+    p.side = (free_left >= need + 0.5 && free_right >= need + 0.5)
+                 ? (reach_left <= reach_right ? 1 : -1)
+                 : (free_left >= free_right ? 1 : -1);
+  } else {
+    p.side = left_ok ? 1 : -1;
+  }
+  p.lateral = p.side > 0 ? reach_left : -reach_right;
+  set_waypoints(p, x_robot);
+  p.ok = true;
+  return p;
+}
+
+void BypassPlanner::set_waypoints(BypassPlan& p, double x_robot) const {
+  const TapeFrame tf = frame_of(p.origin, p.heading);
+  const double past = p.x_far + cfg_.clearance_m + fp_.half_length_m;
+  p.waypoints.clear();
+  p.waypoints.push_back(tf.from(x_robot, p.lateral));  // step aside
+  p.waypoints.push_back(tf.from(past, p.lateral));     // pass it
+  p.waypoints.push_back(tf.from(past + 0.15, 0.0));    // back onto the tape beyond it
+}
+
+void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p) const {
+  if (!p.ok) return;
+  const TapeFrame tf = frame_of(p.origin, p.heading);
+  // Points close round the known outline belong to the obstacle: what was hidden from the
+  // first view (its far side, or the part behind its curve for a sensor off to one side).
+  double far = p.x_far, y_min = p.y_min, y_max = p.y_max;
+  for (const Vec2& w : f.points()) {
+    const Vec2 q = tf.to(w);
+    if (q.x() >= p.x_near - 0.1 && q.x() <= p.x_near + 3.0 && q.y() >= p.y_min - 0.2 &&
+        q.y() <= p.y_max + 0.2) {
+      far = std::fmax(far, q.x());
+      y_min = std::fmin(y_min, q.y());
+      y_max = std::fmax(y_max, q.y());
+    }
+  }
+  const bool deeper = far > p.x_far + 0.02;
+  const bool wider =
+      (p.side > 0 && y_max > p.y_max + 0.01) || (p.side < 0 && y_min < p.y_min - 0.01);
+  if (!deeper && !wider) return;
+  p.x_far = far;
+  p.y_min = y_min;
+  p.y_max = y_max;
+  // The lane only ever moves away from the obstacle.
+  const double lane = p.side > 0 ? p.y_max + cfg_.clearance_m + fp_.half_width_m
+                                 : p.y_min - cfg_.clearance_m - fp_.half_width_m;
+  if (std::fabs(lane) > std::fabs(p.lateral)) p.lateral = lane;
+  const Vec2 first = tf.to(p.waypoints[0]);
+  set_waypoints(p, first.x());
+}
+
+Twist drive_to(const Pose2& odom, const Vec2& wp, double hold_heading, bool holonomic, double speed,
+               bool& reached) {
+  const Vec2 e = to_robot(odom, wp);
+  const double d = e.norm();
+  reached = d < 0.04;
+  Twist t;
+  if (reached) return t;
+  const double v = speed * std::fmin(1.0, d / 0.3) + 0.03;
+  if (holonomic) {
+    t.vx = v * e.x() / d;
+    t.vy = v * e.y() / d;
+    t.wz = clampd(2.0 * wrap_angle(hold_heading - odom.yaw), -0.8, 0.8);
+    return t;
+  }
+  const double bearing = std::atan2(e.y(), e.x());
+  if (std::fabs(bearing) > 0.15) {
+    t.wz = clampd(2.5 * bearing, -1.0, 1.0);  // turn on the spot first
+  } else {
+    t.vx = v;
+    t.wz = 2.0 * bearing;
+  }
+  return t;
+}
+
+}  // namespace carril::fw

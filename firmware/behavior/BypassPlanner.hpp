@@ -1,0 +1,55 @@
+#pragma once
+// Getting round an obstacle that stands on the tape, without a global planner: in the tape's own
+// frame (x along the tape, y to its left), the obstacle's outline from the lidar decides the
+// freer side; waypoints keep `clearance_m` between body and obstacle while passing and lead back
+// onto the tape beyond it. The plan grows as the lidar sees more of the obstacle's far side.
+#include "firmware/core/Geometry.hpp"
+#include "firmware/core/StaticVector.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+
+namespace carril::fw {
+
+struct AvoidConfig {
+  double trigger_m = 0.45;          // obstacle this close ahead of the bumper: avoid it [m]
+  double corridor_margin_m = 0.10;  // corridor = robot width + this each side [m]
+  double clearance_m = 0.30;        // body-to-obstacle clearance while passing [m]
+  double speed_mps = 0.30;          // bypass speed [m/s]
+  double emergency_m = 0.05;        // any point this close to the body stops the robot [m]
+  double max_lateral_m = 2.5;       // never detour further than this from the tape [m]
+  double blocked_timeout_s = 3.0;   // stopped this long by something in the way: give up [s]
+};
+
+struct BypassPlan {
+  bool ok = false;
+  bool blocked = false;        // an obstacle is there but neither side has room
+  int side = 0;                // +1 pass on the tape's left, -1 on its right
+  Vec2 origin = Vec2::Zero();  // tape frame origin, odometry frame
+  double heading = 0.0;        // tape direction, odometry frame [rad]
+  double x_near = 0.0, x_far = 0.0, y_min = 0.0, y_max = 0.0;  // obstacle extent, tape frame
+  double lateral = 0.0;             // offset of the passing lane, tape frame [m]
+  StaticVector<Vec2, 4> waypoints;  // odometry frame, in order
+};
+
+class BypassPlanner {
+ public:
+  BypassPlanner(const AvoidConfig& cfg, const Footprint& fp) : cfg_(cfg), fp_(fp) {}
+
+  // Plans round the obstacle nearest ahead of a robot at `odom` on a tape through `tape_point`
+  // with direction `tape_heading` (both odometry frame).
+  BypassPlan plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
+                  double tape_heading) const;
+  // Extends `p` if a newer scan shows the obstacle reaching further along the tape.
+  void refine(const ObstacleField& f, BypassPlan& p) const;
+
+ private:
+  void set_waypoints(BypassPlan& p, double x_robot) const;
+  AvoidConfig cfg_;
+  Footprint fp_;
+};
+
+// Drives toward a waypoint. Holonomic robots translate and hold `hold_heading`; differential ones
+// turn on the spot, then drive. `reached` is set within 4 cm.
+Twist drive_to(const Pose2& odom, const Vec2& wp, double hold_heading, bool holonomic,
+               double speed_mps, bool& reached);
+
+}  // namespace carril::fw

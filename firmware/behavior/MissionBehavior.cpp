@@ -1,0 +1,295 @@
+#include "firmware/behavior/MissionBehavior.hpp"
+
+#include <cmath>
+
+namespace carril::fw {
+
+MissionBehavior::MissionBehavior(const BehaviorConfig& cfg, LineController& line,
+                                 const BypassPlanner& planner, bool holonomic)
+    : cfg_(cfg), line_(line), planner_(planner), holonomic_(holonomic) {}
+
+void MissionBehavior::enter(MissionState s, const char* phase, double t_s) {
+  state_ = s;
+  no_track_since_s_ = -1.0;  // the pid grace period belongs to one stay in FOLLOW
+  since_s_ = t_s;
+  set_phase(phase);
+}
+
+void MissionBehavior::set_phase(const char* phase) {
+  if (phase != phase_) {
+    phase_ = phase;
+    phase_changed_ = true;
+  }
+}
+
+const char* MissionBehavior::take_phase_change() {
+  if (!phase_changed_) return nullptr;
+  phase_changed_ = false;
+  return phase_;
+}
+
+Twist MissionBehavior::turn_to(double yaw, double target) const {
+  const double e = wrap_angle(target - yaw);
+  return {0.0, 0.0, clampd(2.0 * e, -cfg_.search_yaw_rate_radps, cfg_.search_yaw_rate_radps)};
+}
+
+bool MissionBehavior::obstacle_ahead(const BehaviorInput& in) const {
+  return in.obstacles != nullptr && in.obstacles->valid() &&
+         in.obstacles->ahead_m(in.odom, cfg_.avoid.corridor_margin_m, 5.0) < cfg_.avoid.trigger_m;
+}
+
+BehaviorOutput MissionBehavior::step(const BehaviorInput& in, double dt) {
+  if (!started_) {
+    started_ = true;
+    since_s_ = in.t_s;
+    last_yaw_ = in.odom.yaw;
+  }
+  if (in.fresh_frame) frames_without_line_ = in.line_visible ? 0 : frames_without_line_ + 1;
+  if (in.fresh_frame && in.line_visible) line_seen_s_ = in.t_s;
+  // Accumulated turning, for the searches.
+  turned_ += std::fabs(wrap_angle(in.odom.yaw - last_yaw_));
+  last_yaw_ = in.odom.yaw;
+
+  switch (state_) {
+    case MissionState::Start:
+      return start(in);
+    case MissionState::Follow:
+      return follow(in, dt);
+    case MissionState::Search:
+      return search(in);
+    case MissionState::Avoid:
+      return avoid(in);
+    case MissionState::End:
+      return end(in);
+    case MissionState::Fault:
+    case MissionState::Count:
+      break;
+  }
+  return {};
+}
+
+BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
+  BehaviorOutput out;
+  if (phase_ == std::string_view("wait")) {
+    if (in.drives_ready && in.camera_ready && in.scanner_ready) {
+      set_phase("find");
+      turned_ = 0.0;
+    } else if (in.t_s - since_s_ > cfg_.init_timeout_s) {
+      out.fault = !in.drives_ready   ? Fault::DriveEnableTimeout
+                  : !in.camera_ready ? Fault::CameraTimeout
+                                     : Fault::ScannerTimeout;
+      enter(MissionState::Fault, "stopped", in.t_s);
+    }
+    return out;
+  }
+  if (phase_ == std::string_view("find")) {
+    if (in.fresh_frame && in.line_visible) {
+      // On the tape already (it runs out of the bottom of the view, roughly ahead): follow it.
+      if (std::fabs(in.line_near.y()) < cfg_.start_on_tape_lateral_m &&
+          std::fabs(in.line_near_angle) < cfg_.start_on_tape_angle_rad) {
+        line_.reset();
+        enter(MissionState::Follow, "track", in.t_s);
+        return out;
+      }
+      start_target_ = to_world(in.odom, in.line_near);
+      align_heading_ = in.odom.yaw + in.line_near_angle;
+      set_phase("approach");
+    } else if (turned_ > cfg_.start_max_turn_rad) {
+      out.fault = Fault::LineNotFound;
+      enter(MissionState::Fault, "stopped", in.t_s);
+    } else {
+      out.twist.wz = cfg_.search_yaw_rate_radps;  // turn on the spot, looking for tape
+    }
+    return out;
+  }
+  if (phase_ == std::string_view("approach")) {
+    // Drive to the nearest tape point that was in view, holding the tape's heading there.
+    bool reached = false;
+    out.twist = drive_to(in.odom, start_target_, align_heading_, holonomic_, 0.2, reached);
+    if (reached) set_phase("align");
+    return out;
+  }
+  // align: face along the tape, then follow it.
+  if (std::fabs(wrap_angle(align_heading_ - in.odom.yaw)) > cfg_.align_tolerance_rad) {
+    out.twist = turn_to(in.odom.yaw, align_heading_);
+    return out;
+  }
+  line_.reset();
+  enter(MissionState::Follow, "track", in.t_s);
+  return out;
+}
+
+void MissionBehavior::begin_search(const BehaviorInput& in) {
+  ++line_lost_;
+  search_origin_yaw_ = in.odom.yaw;
+  line_.reset();
+  enter(MissionState::Search, "left", in.t_s);
+}
+
+BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
+  BehaviorOutput out;
+  if (obstacle_ahead(in)) {
+    // Pass along the line of the tape where it runs into the obstacle: just after a curve that
+    // differs from the direction under the robot (where the thesis's line_priority failed).
+    if (in.tape_far_valid) {
+      align_heading_ = in.tape_far_heading;
+      align_point_ = in.tape_far_point;
+    } else {
+      align_heading_ = in.track.valid ? in.track.tape_heading_odom : in.odom.yaw;
+      align_point_ = to_world(in.odom, Vec2(0.0, in.track.valid ? in.track.lateral_m : 0.0));
+    }
+    enter(MissionState::Avoid, "stop", in.t_s);
+    return out;  // zero twist: brake
+  }
+  if (in.end_known && (in.end_odom - Vec2(in.odom.x, in.odom.y)).norm() < cfg_.end_approach_m) {
+    enter(MissionState::End, "approach", in.t_s);
+    return end(in);
+  }
+  // Memory is left while there is tape ahead, or while the robot is still turning onto the last
+  // remembered leg (a corner whose new leg is out of the camera's view while it turns).
+  const bool trusted = in.t_s - line_seen_s_ < cfg_.memory_trust_s;
+  const bool memory_left =
+      in.track.valid && trusted &&
+      (in.track.remaining_m > 0.05 || std::fabs(in.track.heading_err_rad) > 0.1);
+  if (memory_left) {
+    no_track_since_s_ = -1.0;
+    out.twist = line_.follow(in.track, dt);
+    return out;
+  }
+  if (frames_without_line_ < cfg_.lost_frames) return out;  // wait for the next frames
+  // Tape gone: pid first turns toward the last error (the thesis's saturated error) for a moment.
+  if (no_track_since_s_ < 0) no_track_since_s_ = in.t_s;
+  if (line_.config().strategy == Strategy::Pid &&
+      in.t_s - no_track_since_s_ < cfg_.pid_lost_grace_s) {
+    out.twist = line_.lost(dt);
+    return out;
+  }
+  no_track_since_s_ = -1.0;
+  begin_search(in);
+  out.clear_map = true;
+  return out;
+}
+
+BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
+  BehaviorOutput out;
+  if (in.fresh_frame && in.line_visible && in.track.valid) {
+    ++line_reacquired_;
+    line_.reset();
+    enter(MissionState::Follow, "track", in.t_s);
+    return out;
+  }
+  // The thesis's search: up to 90 deg left; then 180 deg right; then 90 deg more, heading back.
+  const double rel = wrap_angle(in.odom.yaw - search_origin_yaw_);
+  const double tol = cfg_.align_tolerance_rad;
+  if (phase_ == std::string_view("left")) {
+    if (rel >= kPi / 2 - tol) {
+      set_phase("right");
+    } else {
+      out.twist.wz = cfg_.search_yaw_rate_radps;
+      return out;
+    }
+  }
+  if (phase_ == std::string_view("right")) {
+    if (rel <= -kPi / 2 + tol && rel < 0) {
+      set_phase("back");
+    } else {
+      out.twist.wz = -cfg_.search_yaw_rate_radps;
+      return out;
+    }
+  }
+  // back: turn right until heading the way the robot came (origin - 180 deg).
+  if (std::fabs(wrap_angle(in.odom.yaw - (search_origin_yaw_ + kPi))) < tol) {
+    out.fault = Fault::LineNotFound;
+    enter(MissionState::Fault, "stopped", in.t_s);
+    return out;
+  }
+  out.twist.wz = -cfg_.search_yaw_rate_radps;
+  return out;
+}
+
+BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
+  BehaviorOutput out;
+  const char* p = phase_;
+  if (p == std::string_view("stop")) {
+    const bool still = std::fabs(in.measured.vx) < 0.02 && std::fabs(in.measured.vy) < 0.02 &&
+                       std::fabs(in.measured.wz) < 0.05;
+    if (still) set_phase("align");
+    return out;
+  }
+  if (p == std::string_view("align")) {
+    if (std::fabs(wrap_angle(align_heading_ - in.odom.yaw)) > cfg_.align_tolerance_rad) {
+      out.twist = turn_to(in.odom.yaw, align_heading_);
+      return out;
+    }
+    // Plan on the newest scan (taken after the robot stopped turning, or close enough).
+    plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_);
+    if (plan_.blocked) {
+      out.fault = Fault::PathBlocked;
+      enter(MissionState::Fault, "stopped", in.t_s);
+      return out;
+    }
+    if (!plan_.ok) {  // nothing ahead any more
+      enter(MissionState::Follow, "track", in.t_s);
+      return out;
+    }
+    waypoint_ = 0;
+    blocked_since_s_ = -1.0;
+    set_phase("bypass");
+    return out;
+  }
+  if (p == std::string_view("bypass")) {
+    if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_);
+    // Something right against the body: stop, and give up if it stays.
+    if (in.obstacles->clearance_m(in.odom) < cfg_.avoid.emergency_m) {
+      if (blocked_since_s_ < 0) blocked_since_s_ = in.t_s;
+      if (in.t_s - blocked_since_s_ > cfg_.avoid.blocked_timeout_s) {
+        out.fault = Fault::PathBlocked;
+        enter(MissionState::Fault, "stopped", in.t_s);
+      }
+      return out;
+    }
+    blocked_since_s_ = -1.0;
+    bool reached = false;
+    out.twist = drive_to(in.odom, plan_.waypoints[waypoint_], plan_.heading, holonomic_,
+                         cfg_.avoid.speed_mps, reached);
+    if (reached) {
+      ++waypoint_;
+      if (waypoint_ >= plan_.waypoints.size()) set_phase("rejoin");
+    }
+    return out;
+  }
+  // rejoin: face along the tape again, then follow what the camera sees from here.
+  if (std::fabs(wrap_angle(plan_.heading - in.odom.yaw)) > cfg_.align_tolerance_rad) {
+    out.twist = turn_to(in.odom.yaw, plan_.heading);
+    return out;
+  }
+  out.clear_map = true;
+  ++obstacles_avoided_;
+  line_.reset();
+  frames_without_line_ = 0;
+  enter(MissionState::Follow, "track", in.t_s);
+  return out;
+}
+
+BehaviorOutput MissionBehavior::end(const BehaviorInput& in) {
+  BehaviorOutput out;
+  if (end_done_) return out;
+  const Vec2 e = to_robot(in.odom, in.end_odom);
+  const double d = e.norm();
+  // Stop on the mark: within tolerance, or (differential) once it is beside or behind the centre.
+  if (d < cfg_.end_tolerance_m || (!holonomic_ && e.x() <= 0.0 && d < 0.05)) {
+    end_done_ = true;
+    set_phase("stopped");
+    return out;
+  }
+  const double v = std::fmin(cfg_.end_speed_mps, cfg_.end_gain * d);
+  if (holonomic_) {
+    out.twist = {v * e.x() / d, v * e.y() / d, 0.0};
+  } else {
+    const double bearing = std::atan2(e.y(), e.x());
+    out.twist = {v * std::fmax(0.0, std::cos(bearing)), 0.0, clampd(2.0 * bearing, -0.8, 0.8)};
+  }
+  return out;
+}
+
+}  // namespace carril::fw

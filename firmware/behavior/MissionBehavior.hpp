@@ -1,0 +1,115 @@
+#pragma once
+// The follow_line mission as an explicit state machine: START, FOLLOW, SEARCH, AVOID, END, FAULT,
+// each with named phases. Pure logic over one tick's inputs: no I/O, no heap, so unit tests can
+// drive every transition with scripted observations.
+#include <cstdint>
+
+#include "firmware/app/Faults.hpp"
+#include "firmware/behavior/BypassPlanner.hpp"
+#include "firmware/behavior/MissionState.hpp"
+#include "firmware/control/LineController.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/perception/TapeMap.hpp"
+
+namespace carril::fw {
+
+struct BehaviorConfig {
+  double init_timeout_s = 3.0;            // drives and sensors must be up by then [s]
+  double search_yaw_rate_radps = 0.6;     // turning speed while searching [rad/s]
+  double start_max_turn_rad = 6.4;        // START gives up after a full turn without tape [rad]
+  int lost_frames = 3;                    // frames without tape (and no tape left in memory)
+  double memory_trust_s = 2.5;            // remembered tape unconfirmed by any frame this long is
+                                          // not trusted any more (longer than a corner pivot) [s]
+  double pid_lost_grace_s = 1.0;          // pid turns toward the last error this long first [s]
+  double end_approach_m = 0.9;            // switch to END when the mark is this close [m]
+  double end_speed_mps = 0.25;            // [m/s]
+  double end_gain = 1.5;                  // approach speed per metre to the mark [1/s]
+  double end_tolerance_m = 0.005;         // stop this close to the mark [m]
+  double align_tolerance_rad = 0.04;      // heading alignment done within this [rad]
+  double start_on_tape_lateral_m = 0.15;  // visible tape this close to the centre line ...
+  double start_on_tape_angle_rad = 0.5;   // ... and this well aligned: already on the tape
+  AvoidConfig avoid;
+};
+
+// One tick's view of the world, assembled by the Controller.
+struct BehaviorInput {
+  double t_s = 0.0;
+  bool drives_ready = false;
+  bool camera_ready = false;      // a frame has arrived
+  bool scanner_ready = false;     // a scan has arrived (or no lidar is fitted)
+  bool fresh_frame = false;       // a frame was processed this tick
+  bool line_visible = false;      // the newest frame shows tape
+  Vec2 line_near = Vec2::Zero();  // nearest visible tape point, robot frame [m]
+  double line_near_angle = 0.0;   // tape direction there, relative to the robot's x [rad]
+  bool fresh_scan = false;        // a scan was processed this tick
+  TrackState track;               // the robot against the remembered tape
+  bool tape_far_valid = false;    // the farthest remembered stretch of tape (where it runs into an
+  Vec2 tape_far_point = Vec2::Zero();  // obstacle, if one stands on it), odometry frame
+  double tape_far_heading = 0.0;
+  bool end_known = false;        // an end mark has been seen
+  Vec2 end_odom = Vec2::Zero();  // its position, odometry frame [m]
+  Pose2 odom;
+  Twist measured;  // from the wheel encoders
+  const ObstacleField* obstacles = nullptr;
+};
+
+struct BehaviorOutput {
+  Twist twist;
+  bool clear_map = false;  // forget the remembered tape (after a search or a bypass)
+  Fault fault = Fault::None;
+};
+
+class MissionBehavior {
+ public:
+  MissionBehavior(const BehaviorConfig& cfg, LineController& line, const BypassPlanner& planner,
+                  bool holonomic);
+
+  BehaviorOutput step(const BehaviorInput& in, double dt_s);
+
+  MissionState state() const { return state_; }
+  const char* phase() const { return phase_; }
+  bool end_done() const { return end_done_; }
+  std::uint32_t line_lost_events() const { return line_lost_; }
+  std::uint32_t line_reacquired_events() const { return line_reacquired_; }
+  std::uint32_t obstacles_avoided() const { return obstacles_avoided_; }
+  const BypassPlan& bypass() const { return plan_; }
+  // Phase changes since the last call (a new phase name), for the event log.
+  const char* take_phase_change();
+
+ private:
+  void enter(MissionState s, const char* phase, double t_s);
+  void set_phase(const char* phase);
+  BehaviorOutput start(const BehaviorInput& in);
+  BehaviorOutput follow(const BehaviorInput& in, double dt);
+  BehaviorOutput search(const BehaviorInput& in);
+  BehaviorOutput avoid(const BehaviorInput& in);
+  BehaviorOutput end(const BehaviorInput& in);
+  bool obstacle_ahead(const BehaviorInput& in) const;
+  void begin_search(const BehaviorInput& in);
+  Twist turn_to(double yaw, double target) const;
+
+  BehaviorConfig cfg_;
+  LineController& line_;
+  const BypassPlanner& planner_;
+  bool holonomic_;
+  MissionState state_ = MissionState::Start;
+  const char* phase_ = "wait";
+  bool phase_changed_ = false;
+  double since_s_ = 0.0;
+  bool started_ = false;
+  int frames_without_line_ = 0;
+  double line_seen_s_ = 0.0;  // when a frame last showed tape
+  double no_track_since_s_ = -1.0;
+  double turned_ = 0.0, last_yaw_ = 0.0;  // accumulated turning in START / SEARCH [rad]
+  double search_origin_yaw_ = 0.0;
+  double align_heading_ = 0.0;
+  Vec2 align_point_ = Vec2::Zero();
+  Vec2 start_target_ = Vec2::Zero();  // odometry frame
+  BypassPlan plan_;
+  std::size_t waypoint_ = 0;
+  double blocked_since_s_ = -1.0;
+  bool end_done_ = false;
+  std::uint32_t line_lost_ = 0, line_reacquired_ = 0, obstacles_avoided_ = 0;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,180 @@
+#include "firmware/perception/BlobLabeler.hpp"
+
+#include <bit>
+
+namespace carril::fw {
+
+namespace {
+
+constexpr std::uint64_t kAll = ~std::uint64_t{0};
+
+// Bits of word k that are cells of a `width`-wide row.
+std::uint64_t valid_bits(int width, int k) {
+  const int rem = width - 64 * k;
+  return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
+}
+
+// 3x3 min (erode) or max (dilate) filter, separable: along rows into tmp, then across rows.
+// Outside the image is `fill`: set for erosion, clear for dilation.
+template <bool kErode>
+void morph(const BitImage& src, const BitImage& dst, const BitImage& tmp) {
+  const std::uint64_t fill = kErode ? kAll : 0;
+  const int s = src.stride;
+  const std::uint64_t last = valid_bits(src.width, s - 1);
+  for (int y = 0; y < src.height; ++y) {
+    const std::uint64_t* r = src.row(y);
+    std::uint64_t* h = tmp.row(y);
+    std::uint64_t prev = fill;
+    std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
+    for (int k = 0; k < s; ++k) {
+      const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
+      const std::uint64_t left = (cur << 1) | (prev >> 63);   // bit x holds cell x - 1
+      const std::uint64_t right = (cur >> 1) | (next << 63);  // bit x holds cell x + 1
+      h[k] = kErode ? (cur & left & right) : (cur | left | right);
+      prev = cur;
+      cur = next;
+    }
+  }
+  for (int y = 0; y < src.height; ++y) {
+    const std::uint64_t* up = y > 0 ? tmp.row(y - 1) : nullptr;
+    const std::uint64_t* mid = tmp.row(y);
+    const std::uint64_t* dn = y + 1 < src.height ? tmp.row(y + 1) : nullptr;
+    std::uint64_t* out = dst.row(y);
+    for (int k = 0; k < s; ++k) {
+      const std::uint64_t a = up ? up[k] : fill, b = dn ? dn[k] : fill;
+      const std::uint64_t v = kErode ? (a & mid[k] & b) : (a | mid[k] | b);
+      out[k] = k + 1 < s ? v : (v & last);
+    }
+  }
+}
+
+}  // namespace
+
+void erode3x3(const BitImage& src, const BitImage& dst, const BitImage& tmp) {
+  morph<true>(src, dst, tmp);
+}
+void dilate3x3(const BitImage& src, const BitImage& dst, const BitImage& tmp) {
+  morph<false>(src, dst, tmp);
+}
+
+RunLabeler::RunLabeler(int height, int max_runs)
+    : height_(height),
+      max_runs_(max_runs),
+      runs_(std::make_unique<Run[]>(std::size_t(max_runs))),
+      parent_(std::make_unique<std::int32_t[]>(std::size_t(max_runs))),
+      cells_(std::make_unique<std::int32_t[]>(std::size_t(max_runs))),
+      box_(std::make_unique<std::int16_t[]>(std::size_t(max_runs) * 4)),
+      row_start_(std::make_unique<std::int32_t[]>(std::size_t(height) + 1)) {}
+
+RunLabeler::~RunLabeler() = default;
+
+int RunLabeler::find(int i) {
+  while (parent_[i] != i) {
+    parent_[i] = parent_[parent_[i]];
+    i = parent_[i];
+  }
+  return i;
+}
+
+void RunLabeler::unite(int a, int b) {
+  const int ra = find(a), rb = find(b);
+  // The smaller index becomes the root, so every run's parent precedes it.
+  if (ra < rb) {
+    parent_[rb] = ra;
+  } else if (rb < ra) {
+    parent_[ra] = rb;
+  }
+}
+
+bool RunLabeler::label(const BitImage& m) {
+  n_runs_ = 0;
+  int prev_begin = 0, prev_end = 0;
+  const int rows = m.height < height_ ? m.height : height_;
+  for (int y = 0; y <= height_; ++y) row_start_[y] = 0;
+  for (int y = 0; y < rows; ++y) {
+    const std::uint64_t* r = m.row(y);
+    const int begin = n_runs_;
+    row_start_[y] = begin;
+    bool in = false;
+    int start = 0;
+    for (int k = 0; k < m.stride; ++k) {
+      const std::uint64_t w = r[k];
+      int pos = 0;
+      for (;;) {
+        const std::uint64_t look = (in ? ~w : w) & (kAll << pos);
+        if (look == 0) break;
+        pos = std::countr_zero(look);
+        if (!in) {
+          start = 64 * k + pos;
+          in = true;
+          continue;
+        }
+        in = false;
+        if (n_runs_ == max_runs_) {
+          n_runs_ = 0;
+          return false;
+        }
+        runs_[n_runs_] = {std::int16_t(start), std::int16_t(64 * k + pos - 1), std::int16_t(y)};
+        parent_[n_runs_] = n_runs_;
+        ++n_runs_;
+      }
+    }
+    if (in) {  // a run reaching the last cell of a row whose width is a multiple of 64
+      if (n_runs_ == max_runs_) {
+        n_runs_ = 0;
+        return false;
+      }
+      runs_[n_runs_] = {std::int16_t(start), std::int16_t(m.width - 1), std::int16_t(y)};
+      parent_[n_runs_] = n_runs_;
+      ++n_runs_;
+    }
+    // 8-connectivity: runs touch when they overlap or meet at a corner.
+    int j = prev_begin;
+    for (int i = begin; i < n_runs_; ++i) {
+      while (j < prev_end && runs_[j].x1 < runs_[i].x0 - 1) ++j;
+      for (int k = j; k < prev_end && runs_[k].x0 <= runs_[i].x1 + 1; ++k) unite(i, k);
+    }
+    prev_begin = begin;
+    prev_end = n_runs_;
+  }
+  for (int y = rows; y <= height_; ++y) row_start_[y] = n_runs_;
+  // Every parent precedes its run, so one forward pass leaves each run pointing at its root.
+  for (int i = 0; i < n_runs_; ++i) {
+    const int root = parent_[parent_[i]];
+    parent_[i] = root;
+    const Run& run = runs_[i];
+    std::int16_t* b = &box_[std::size_t(root) * 4];
+    if (root == i) {
+      cells_[i] = 0;
+      b[0] = run.x0;
+      b[1] = run.x1;
+      b[2] = run.y;
+      b[3] = run.y;
+    }
+    cells_[root] += run.x1 - run.x0 + 1;
+    if (run.x0 < b[0]) b[0] = run.x0;
+    if (run.x1 > b[1]) b[1] = run.x1;
+    b[3] = run.y;  // rows come in order
+  }
+  return true;
+}
+
+int RunLabeler::largest(int min_cells, int k, int* ids, int* cells) const {
+  int n = 0;
+  for (int i = 0; i < n_runs_; ++i) {
+    if (parent_[i] != i || cells_[i] < min_cells) continue;
+    const int c = cells_[i];
+    if (n == k && c <= cells[n - 1]) continue;
+    int p = n < k ? n++ : n - 1;
+    while (p > 0 && cells[p - 1] < c) {
+      ids[p] = ids[p - 1];
+      cells[p] = cells[p - 1];
+      --p;
+    }
+    ids[p] = i;
+    cells[p] = c;
+  }
+  return n;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,361 @@
+#include "firmware/perception/BlobRefiner.hpp"
+
+#include <bit>
+
+#include "firmware/perception/ColorClassifier.hpp"
+#include "hal/Types.hpp"
+
+namespace carril::fw {
+
+namespace {
+
+constexpr std::uint64_t kAll = ~std::uint64_t{0};
+constexpr int kMaxWords = (hal::kMaxImageWidth + 63) / 64;
+
+std::uint64_t valid_bits(int width, int k) {
+  const int rem = width - 64 * k;
+  return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
+}
+
+// 3-wide AND (erode) or OR (dilate) along a row of s words; outside the row counts as `fill`
+// (`last` marks the valid bits of the last word).
+template <bool kErode>
+void hpass(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out) {
+  const std::uint64_t fill = kErode ? kAll : 0;
+  std::uint64_t prev = fill;
+  std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
+  for (int k = 0; k < s; ++k) {
+    const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
+    const std::uint64_t left = (cur << 1) | (prev >> 63);
+    const std::uint64_t right = (cur >> 1) | (next << 63);
+    out[k] = kErode ? (cur & left & right) : (cur | left | right);
+    prev = cur;
+    cur = next;
+  }
+}
+
+// 3x3 erosion or dilation of rows v0..v1, words k0..k1 of a full-width mask. Rows and columns
+// outside the image count as `fill` (set for erosion, as cv::erode); rows and words outside the
+// window inside the image are clear (nothing of the blob is there).
+template <bool kErode>
+void morph_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int height, int v0,
+                  int v1, int k0, int k1) {
+  const std::uint64_t fill = kErode ? kAll : 0, last = valid_bits(width, s - 1);
+  const std::uint64_t pad = fill & ~last;  // bits past the image's right edge
+  const std::uint64_t left_out = k0 == 0 ? fill : 0, right_out = k1 == s - 1 ? fill : 0;
+  for (int v = v0; v <= v1; ++v) {
+    const std::uint64_t* r = m + std::ptrdiff_t(v) * s;
+    std::uint64_t* h = tmp + std::ptrdiff_t(v) * s;
+    std::uint64_t prev = left_out, cur = r[k0] | (k0 == s - 1 ? pad : 0);
+    for (int k = k0; k <= k1; ++k) {
+      const std::uint64_t next = k < k1 ? (r[k + 1] | (k + 1 == s - 1 ? pad : 0)) : right_out;
+      const std::uint64_t left = (cur << 1) | (prev >> 63);
+      const std::uint64_t right = (cur >> 1) | (next << 63);
+      h[k] = kErode ? (cur & left & right) : (cur | left | right);
+      prev = cur;
+      cur = next;
+    }
+  }
+  for (int v = v0; v <= v1; ++v) {
+    const std::uint64_t* mid = tmp + std::ptrdiff_t(v) * s;
+    const std::uint64_t* up = v > v0 ? mid - s : nullptr;
+    const std::uint64_t* dn = v < v1 ? mid + s : nullptr;
+    const std::uint64_t up_fill = v == 0 ? fill : 0, dn_fill = v == height - 1 ? fill : 0;
+    std::uint64_t* out = m + std::ptrdiff_t(v) * s;
+    for (int k = k0; k <= k1; ++k) {
+      const std::uint64_t a = up ? up[k] : up_fill, b = dn ? dn[k] : dn_fill;
+      const std::uint64_t r = kErode ? (a & mid[k] & b) : (a | mid[k] | b);
+      out[k] = k + 1 < s ? r : (r & last);
+    }
+  }
+}
+
+void set_range(std::uint64_t* row, int a, int b) {
+  const int ka = a >> 6, kb = b >> 6;
+  for (int k = ka; k <= kb; ++k) {
+    const int lo = k == ka ? (a & 63) : 0, hi = k == kb ? (b & 63) : 63;
+    row[k] |= (kAll << lo) & (kAll >> (63 - hi));
+  }
+}
+
+// Each of the 32 low bits doubled: bit i to bits 2i and 2i + 1.
+std::uint64_t spread2(std::uint64_t v) {
+  v &= 0xFFFFFFFFULL;
+  v = (v | (v << 16)) & 0x0000FFFF0000FFFFULL;
+  v = (v | (v << 8)) & 0x00FF00FF00FF00FFULL;
+  v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0FULL;
+  v = (v | (v << 2)) & 0x3333333333333333ULL;
+  v = (v | (v << 1)) & 0x5555555555555555ULL;
+  return v | (v << 1);
+}
+
+// Words k0..k1 of a row of pixels from a row of cells (cs words): each cell is d pixels wide.
+void upsample(const std::uint64_t* c, int cs, std::uint64_t* p, int k0, int k1, int d) {
+  for (int k = k0; k <= k1; ++k) {
+    const int ck = k / d;
+    const std::uint64_t w = ck < cs ? c[ck] : 0;
+    if (d == 1) {
+      p[k] = w;
+    } else if (d == 2) {
+      p[k] = spread2(w >> (32 * (k & 1)));
+    } else {
+      p[k] = spread2(spread2((w >> (16 * (k & 3))) & 0xFFFF));
+    }
+  }
+}
+
+int reflect101(int i, int n) {
+  return i < 0 ? -i : (i >= n ? 2 * n - 2 - i : i);
+}
+
+// cv::GaussianBlur with ksize 5 and sigma 0 is the binomial kernel [1 4 6 4 1]^2 / 256,
+// computed exactly and rounded half up (OpenCV's fixed-point path); borders reflected (101).
+constexpr int kTaps[5] = {1, 4, 6, 4, 1};
+
+// The threshold test on a blurred colour: cv::cvtColor to HSV and cv::inRange, with the cheap
+// tests first (V, then S; the hue only when the window limits it).
+bool blurred_in(const ColorThreshold& t, int b, int g, int r) {
+  const int v = b > g ? (b > r ? b : r) : (g > r ? g : r);
+  if (v < t.v_lo || v > t.v_hi) return false;  // most floor pixels stop here
+  const int vmin = b < g ? (b < r ? b : r) : (g < r ? g : r);
+  const int diff = v - vmin;
+  using namespace hsv_detail;
+  const int sat = (diff * kTables.sdiv[v] + (1 << (kShift - 1))) >> kShift;
+  if (sat < t.s_lo || sat > t.s_hi) return false;
+  if (t.h_lo == 0 && t.h_hi >= 179) return true;
+  return in_threshold(t, bgr_to_hsv8(b, g, r));
+}
+
+// One pixel anywhere, borders reflected.
+bool pixel_in(const std::uint8_t* img, int w, int h, int u, int v, const ColorThreshold& t) {
+  int sb = 0, sg = 0, sr = 0;
+  const std::size_t row = std::size_t(w) * 3;
+  for (int j = 0; j < 5; ++j) {
+    const std::uint8_t* line = img + std::size_t(reflect101(v + j - 2, h)) * row;
+    for (int i = 0; i < 5; ++i) {
+      const std::uint8_t* p = line + std::size_t(reflect101(u + i - 2, w)) * 3;
+      const int k = kTaps[j] * kTaps[i];
+      sb += k * p[0];
+      sg += k * p[1];
+      sr += k * p[2];
+    }
+  }
+  return blurred_in(t, (sb + 128) >> 8, (sg + 128) >> 8, (sr + 128) >> 8);
+}
+
+// Blurred BGR of the 8 pixels u0..u0+7 in rows v0..v0+rows-1 (rows <= kChunkRows), all at least
+// 2 px inside the image. Fixed-size loops over 16-bit lanes, which the compiler vectorises:
+// a horizontal pass over rows+4 rows, then the vertical pass.
+constexpr int kChunk = 8, kChunkBytes = 3 * kChunk, kChunkRows = 4;
+void blur_chunk(const std::uint8_t* img, int w, int u0, int v0, int rows,
+                std::uint16_t out[kChunkRows][kChunkBytes]) {
+  std::uint16_t hs[kChunkRows + 4][kChunkBytes];
+  const std::size_t row = std::size_t(w) * 3;
+  for (int r = 0; r < rows + 4; ++r) {
+    const std::uint8_t* p = img + std::size_t(v0 - 2 + r) * row + std::size_t(u0 - 2) * 3;
+    for (int i = 0; i < kChunkBytes; ++i) {
+      hs[r][i] =
+          static_cast<std::uint16_t>(p[i] + 4 * p[i + 3] + 6 * p[i + 6] + 4 * p[i + 9] + p[i + 12]);
+    }
+  }
+  for (int o = 0; o < rows; ++o) {
+    for (int i = 0; i < kChunkBytes; ++i) {
+      out[o][i] = static_cast<std::uint16_t>((hs[o][i] + 4 * hs[o + 1][i] + 6 * hs[o + 2][i] +
+                                              4 * hs[o + 3][i] + hs[o + 4][i] + 128) >>
+                                             8);
+    }
+  }
+}
+
+std::int64_t sum1(std::int64_t a, std::int64_t b) {
+  return (a + b) * (b - a + 1) / 2;
+}
+std::int64_t sq_prefix(std::int64_t n) {
+  return n < 0 ? 0 : n * (n + 1) * (2 * n + 1) / 6;
+}
+
+}  // namespace
+
+BlobRefiner::BlobRefiner(int width, int height, int decimation)
+    : w_(width),
+      h_(height),
+      d_(decimation),
+      stride_(bit_stride(width)),
+      mask_(std::make_unique<std::uint64_t[]>(std::size_t(height) * bit_stride(width))),
+      tmp_(std::make_unique<std::uint64_t[]>(std::size_t(height) * bit_stride(width))),
+      cell_w_(width / decimation),
+      cell_h_(height / decimation),
+      cell_stride_(bit_stride(width / decimation)) {
+  blob_ = std::make_unique<std::uint64_t[]>(std::size_t(cell_h_ + 2) * cell_stride_);
+}
+
+BlobRefiner::~BlobRefiner() = default;
+
+int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const RunLabeler& lab,
+                         const BitImage& cells, int id, BlobSums& out) {
+  out = BlobSums{};
+  const std::int16_t* box = lab.box(id);
+  const int y0 = box[2], y1 = box[3];
+  const int cy0 = y0 > 0 ? y0 - 1 : 0, cy1 = y1 + 1 < cell_h_ ? y1 + 1 : cell_h_ - 1;
+  const int cs = cell_stride_, s = stride_;
+  // The window: the blob's bounding box and one cell round it; words k0..k1 of each pixel row.
+  const int cx0 = box[0] > 0 ? box[0] - 1 : 0, cx1 = box[1] + 1 < cell_w_ ? box[1] + 1 : box[1];
+  const int k0 = (d_ * cx0) >> 6;
+  const int k1 = (d_ * cx1 + d_ - 1 < w_ ? d_ * cx1 + d_ - 1 : w_ - 1) >> 6;
+  auto brow = [&](int y) { return blob_.get() + std::ptrdiff_t(y + 1) * cs; };
+  for (int y = cy0 - 1; y <= cy1 + 1; ++y) {
+    if (y < -1 || y > cell_h_) continue;
+    for (int k = 0; k < cs; ++k) brow(y)[k] = 0;
+  }
+  for (int y = y0; y <= y1; ++y) {
+    for (int i = lab.row_begin(y); i < lab.row_begin(y + 1); ++i) {
+      if (lab.root(i) == id) set_range(brow(y), lab.run(i).x0, lab.run(i).x1);
+    }
+  }
+  // Solid cells (their 3x3 neighbourhood inside the blob; outside the image counts as inside)
+  // and boundary cells (the 3x3 dilation of the blob minus the solid cells).
+  const std::uint64_t last = valid_bits(cells.width, cs - 1);
+  std::uint64_t er[3][kMaxWords], di[3][kMaxWords], solid[kMaxWords], band[kMaxWords],
+      solid_px[kMaxWords], band_px[kMaxWords];
+  int classified = 0;
+  for (int y = cy0; y <= cy1; ++y) {
+    for (int r = 0; r < 3; ++r) {
+      const int yy = y + r - 1;
+      if (yy < 0 || yy >= cell_h_) {
+        for (int k = 0; k < cs; ++k) {
+          er[r][k] = kAll;
+          di[r][k] = 0;
+        }
+      } else {
+        hpass<true>(brow(yy), cs, last, er[r]);
+        hpass<false>(brow(yy), cs, last, di[r]);
+      }
+    }
+    for (int k = 0; k < cs; ++k) {
+      const std::uint64_t valid = k + 1 < cs ? kAll : last;
+      solid[k] = er[0][k] & er[1][k] & er[2][k] & valid;
+      band[k] = (di[0][k] | di[1][k] | di[2][k]) & valid & ~solid[k];
+    }
+    upsample(solid, cs, solid_px, k0, k1, d_);
+    upsample(band, cs, band_px, k0, k1, d_);
+    const int vy = d_ * y, rows = vy + d_ <= h_ ? d_ : h_ - vy;
+    for (int j = 0; j < rows; ++j) {
+      std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;
+      for (int k = k0; k <= k1; ++k) m[k] = solid_px[k];
+    }
+    // Boundary pixels, 8 columns at a time (all the cell row's pixel rows together).
+    const bool rows_inside = vy >= 2 && vy + rows + 2 <= h_;
+    for (int k = k0; k <= k1; ++k) {
+      for (int c = 0; c < 64; c += kChunk) {
+        const std::uint64_t bits = (band_px[k] >> c) & ((1U << kChunk) - 1);
+        if (bits == 0) continue;
+        const int u0 = 64 * k + c;
+        if (rows_inside && u0 >= 2 && u0 + kChunk + 2 <= w_) {
+          std::uint16_t px[kChunkRows][kChunkBytes];
+          blur_chunk(bgr, w_, u0, vy, rows, px);
+          for (int j = 0; j < rows; ++j) {
+            std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;
+            for (std::uint64_t b = bits; b != 0; b &= b - 1) {
+              const int i = std::countr_zero(b);
+              ++classified;
+              const std::uint16_t* q = &px[j][3 * i];
+              if (blurred_in(t, q[0], q[1], q[2])) m[k] |= std::uint64_t{1} << (c + i);
+            }
+          }
+        } else {
+          for (int j = 0; j < rows; ++j) {
+            std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;
+            for (std::uint64_t b = bits; b != 0; b &= b - 1) {
+              const int i = std::countr_zero(b);
+              ++classified;
+              if (pixel_in(bgr, w_, h_, u0 + i, vy + j, t)) m[k] |= std::uint64_t{1} << (c + i);
+            }
+          }
+        }
+      }
+    }
+  }
+  // The thesis's opening at full resolution, on this window of rows.
+  const int v0 = d_ * cy0, v1 = d_ * cy1 + d_ - 1 < h_ ? d_ * cy1 + d_ - 1 : h_ - 1;
+  std::uint64_t* m = mask_.get();
+  std::uint64_t* tmp = tmp_.get();
+  morph_window<true>(m, tmp, s, w_, h_, v0, v1, k0, k1);
+  morph_window<true>(m, tmp, s, w_, h_, v0, v1, k0, k1);
+  morph_window<false>(m, tmp, s, w_, h_, v0, v1, k0, k1);
+  morph_window<false>(m, tmp, s, w_, h_, v0, v1, k0, k1);
+
+  // Moments of the area (by runs) and of the outline (pixels with a 4-neighbour outside).
+  const int vb0 = d_ * y0, vb1 = d_ * y1 + d_ - 1;
+  out.bands = vb1 - vb0 + 1 < BlobSums::kBands ? vb1 - vb0 + 1 : BlobSums::kBands;
+  out.u_min = w_;
+  out.v_min = h_;
+  for (int v = v0; v <= v1; ++v) {
+    const std::uint64_t* row = m + std::ptrdiff_t(v) * s;
+    const std::uint64_t* up = v > v0 ? row - s : nullptr;
+    const std::uint64_t* dn = v < v1 ? row + s : nullptr;
+    int band_i = (vb1 - v) * out.bands / (vb1 - vb0 + 1);
+    band_i = band_i < 0 ? 0 : (band_i >= out.bands ? out.bands - 1 : band_i);
+    std::int64_t bc = 0, bsu = 0, bsuu = 0, rn = 0, rsu = 0, rsuu = 0;
+    bool in = false;
+    int start = 0;
+    for (int k = k0; k <= k1; ++k) {
+      const std::uint64_t w = row[k];
+      const std::uint64_t left = (w << 1) | (k > k0 ? row[k - 1] >> 63 : 0);
+      const std::uint64_t right = (w >> 1) | (k < k1 ? row[k + 1] << 63 : 0);
+      const std::uint64_t inner = w & left & right & (up ? up[k] : 0) & (dn ? dn[k] : 0);
+      for (std::uint64_t o = w & ~inner; o != 0; o &= o - 1) {
+        const std::int64_t u = 64 * k + std::countr_zero(o);
+        ++bc;
+        bsu += u;
+        bsuu += u * u;
+      }
+      for (int pos = 0;;) {  // runs of set bits
+        const std::uint64_t look = (in ? ~w : w) & (kAll << pos);
+        if (look == 0) break;
+        pos = std::countr_zero(look);
+        if (!in) {
+          start = 64 * k + pos;
+          in = true;
+          continue;
+        }
+        in = false;
+        const std::int64_t a = start, b = 64 * k + pos - 1;
+        rn += b - a + 1;
+        rsu += sum1(a, b);
+        rsuu += sq_prefix(b) - sq_prefix(a - 1);
+        out.u_min = int(a) < out.u_min ? int(a) : out.u_min;
+        out.u_max = int(b) > out.u_max ? int(b) : out.u_max;
+      }
+    }
+    if (in) {  // a run to the end of the window's last word
+      const std::int64_t a = start, b = 64 * k1 + 63 < w_ ? 64 * k1 + 63 : w_ - 1;
+      rn += b - a + 1;
+      rsu += sum1(a, b);
+      rsuu += sq_prefix(b) - sq_prefix(a - 1);
+      out.u_min = int(a) < out.u_min ? int(a) : out.u_min;
+      out.u_max = int(b);
+    }
+    if (rn == 0) continue;
+    const std::int64_t vv = v;
+    out.v_min = v < out.v_min ? v : out.v_min;
+    out.v_max = v;
+    out.n += rn;
+    out.su += rsu;
+    out.sv += rn * vv;
+    out.suu += rsuu;
+    out.svv += rn * vv * vv;
+    out.suv += rsu * vv;
+    out.bn += bc;
+    out.bsu += bsu;
+    out.bsv += bc * vv;
+    out.bsuu += bsuu;
+    out.bsvv += bc * vv * vv;
+    out.bsuv += bsu * vv;
+    out.band_n[band_i] += rn;
+    out.band_su[band_i] += rsu;
+    out.band_sv[band_i] += rn * vv;
+  }
+  return classified;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,49 @@
+#pragma once
+// Full-resolution measurement of one blob found on the decimated mask. Binary cells of d x d
+// pixels place a sharp edge anywhere within a cell, which biases a blob's width by up to a pixel
+// per side (and, through the perspective taper of the tape, its centroid). So the blob is
+// rebuilt at full resolution: cells whose 3x3 neighbourhood lies inside the blob are taken as
+// solid, and every pixel of the cells along its boundary (inside and out) is classified the way
+// the thesis's pipeline classifies it (5x5 Gaussian [1 4 6 4 1]^2 / 256 with reflected borders,
+// HSV, the threshold window), then the 5x5 opening (two 3x3 erosions, two 3x3 dilations) is
+// applied to that window of rows, and the moments of the result and of its outline are summed.
+#include <cstdint>
+#include <memory>
+
+#include "firmware/perception/BlobLabeler.hpp"
+#include "firmware/perception/LineDetector.hpp"
+
+namespace carril::fw {
+
+// Integer moments of one blob at full resolution. Pixel (u, v) has its centre at (u, v).
+struct BlobSums {
+  static constexpr int kBands = 16;
+  std::int64_t n = 0, su = 0, sv = 0, suu = 0, svv = 0, suv = 0;        // area pixels
+  std::int64_t bn = 0, bsu = 0, bsv = 0, bsuu = 0, bsvv = 0, bsuv = 0;  // outline pixels
+  int u_min = 0, u_max = -1, v_min = 0, v_max = -1;                     // bounding box
+  // The centre line: pixel count and sums in bands of rows, bottom (largest v) first.
+  int bands = 0;
+  std::int64_t band_n[kBands] = {}, band_su[kBands] = {}, band_sv[kBands] = {};
+};
+
+class BlobRefiner {
+ public:
+  // For width x height frames and masks decimated by d.
+  BlobRefiner(int width, int height, int decimation);
+  ~BlobRefiner();
+  BlobRefiner(const BlobRefiner&) = delete;
+  BlobRefiner& operator=(const BlobRefiner&) = delete;
+
+  // Measures component `id` of `lab`, labelled on `cells`, in the BGR frame `bgr` for the colour
+  // window `t`. Returns the number of boundary pixels it classified.
+  int measure(const std::uint8_t* bgr, const ColorThreshold& t, const RunLabeler& lab,
+              const BitImage& cells, int id, BlobSums& out);
+
+ private:
+  int w_, h_, d_, stride_;
+  std::unique_ptr<std::uint64_t[]> mask_, tmp_;  // h_ x stride_ full-resolution rows
+  std::unique_ptr<std::uint64_t[]> blob_;        // the blob's cells, (cells high + 2) rows
+  int cell_w_, cell_h_, cell_stride_;
+};
+
+}  // namespace carril::fw

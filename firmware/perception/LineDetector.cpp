@@ -1,0 +1,286 @@
+#include "firmware/perception/LineDetector.hpp"
+
+#include <cmath>
+
+#include "firmware/perception/BlobLabeler.hpp"
+#include "firmware/perception/BlobRefiner.hpp"
+#include "firmware/perception/ColorClassifier.hpp"
+
+// The pipeline, against the thesis's OpenCV one (GaussianBlur 5x5, cvtColor HSV, inRange, erode
+// x2, dilate x2, findContours, largest contour's moments and fitLine):
+//  1. Decimate: each d x d block of the frame is averaged (the average is the blur) and its colour
+//     looked up in a table built at construction that holds the HSV verdict for the tape and the
+//     end-mark windows (ColorClassifier). Both masks come out of one pass, packed 64 cells a word.
+//  2. Clean: one 3x3 erosion and one 3x3 dilation of the decimated masks (at d = 2 a cell is
+//     2 px, so this is the full-resolution two-and-two; at d = 1 it is done twice, as OpenCV).
+//  3. Label the 8-connected components by runs (BlobLabeler) and take the largest ones.
+//  4. Rebuild each of those at full resolution (BlobRefiner): solid cells stay solid, the pixels
+//     of the cells along its boundary are classified as the thesis's pipeline does (5x5 blur,
+//     HSV, window) and the 5x5 opening is applied. Binary cells alone would put a sharp edge up
+//     to a pixel off (a 2 px cell half covered by tape is all tape or all floor), and that bias
+//     moves the centroid of a tapering blob by more than a pixel.
+//  5. Per blob, from full-resolution moments of its area and of its outline pixels:
+//     - area as cv::contourArea measures it: the contour polygon through the outline pixels'
+//       centres encloses N - B/2 - 1 pixels' worth of area (Pick's theorem; N pixels, B of them
+//       on the outline), which is what the minimum area is compared with;
+//     - centroid of that polygon: the area moments with the outline pixels counted half;
+//     - direction: the total-least-squares line through the outline pixels (cv::fitLine with
+//       DIST_L2 on the contour), i.e. the principal axis of the outline pixels' covariance.
+
+namespace carril::fw {
+
+namespace {
+
+constexpr int kMaxBlobs = 4;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+int normalised_decimation(int d) {
+  return d == 1 || d == 4 ? d : 2;
+}
+
+// Classifies every d x d block of the frame into the two masks. Per row of blocks: the block
+// sums of each channel, quantised to 6 bits, for every byte position (straight loops over the
+// interleaved row, which the compiler vectorises), then one table lookup per block.
+template <int D>
+void classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
+              std::uint8_t* q, const BitImage& line, const BitImage& end) {
+  constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);  // block sum to 6 bits
+  const int row_bytes = width * 3;
+  const int n = row_bytes - 3 * (D - 1);  // positions whose block lies inside the row
+  for (int by = 0; by < line.height; ++by) {
+    const std::uint8_t* p = img + std::size_t(by) * D * std::size_t(row_bytes);
+    if constexpr (D == 2) {
+      const std::uint8_t* p1 = p + row_bytes;
+      for (int i = 0; i < n; ++i) {
+        q[i] = static_cast<std::uint8_t>((p[i] + p1[i] + p[i + 3] + p1[i + 3]) >> kShift);
+      }
+    } else {
+      for (int i = 0; i < row_bytes; ++i) {
+        unsigned sum = 0;
+        for (int j = 0; j < D; ++j) sum += p[std::size_t(j) * std::size_t(row_bytes) + i];
+        vsum[i] = static_cast<std::uint16_t>(sum);
+      }
+      for (int i = 0; i < n; ++i) {
+        unsigned sum = 0;
+        for (int m = 0; m < D; ++m) sum += vsum[i + 3 * m];
+        q[i] = static_cast<std::uint8_t>(sum >> kShift);
+      }
+    }
+    // One lookup per block; eight table bytes are gathered into a word and their two mask bits
+    // packed with a multiply (bit 0 of byte i lands in bit 56 + i).
+    constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
+    std::uint64_t* lr = line.row(by);
+    std::uint64_t* er = end.row(by);
+    for (int k = 0; k < line.stride; ++k) {
+      std::uint64_t lw = 0, ew = 0;
+      for (int g = 0; g < 8; ++g) {
+        const int x0 = 64 * k + 8 * g;
+        if (x0 >= line.width) break;
+        const int cnt = line.width - x0 < 8 ? line.width - x0 : 8;
+        std::uint64_t bytes = 0;
+        for (int i = 0; i < cnt; ++i) {
+          const std::uint8_t* c3 = q + 3 * D * (x0 + i);
+          bytes |= std::uint64_t{lut[color_lut::index(c3[0], c3[1], c3[2])]} << (8 * i);
+        }
+        lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
+        ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
+      }
+      lr[k] = lw;
+      er[k] = ew;
+    }
+  }
+}
+
+}  // namespace
+
+struct LineDetector::Buffers {
+  Buffers(int width, int height, int cells_w, int cells_h, int d)
+      : stride(bit_stride(cells_w)),
+        words(std::make_unique<std::uint64_t[]>(std::size_t(3) * stride * cells_h)),
+        lut(std::make_unique<std::uint8_t[]>(color_lut::kSize)),
+        vsum(std::make_unique<std::uint16_t[]>(std::size_t(width) * 3)),
+        q(std::make_unique<std::uint8_t[]>(std::size_t(width) * 3)),
+        labeler(cells_h, max_runs(cells_w, cells_h)),
+        refiner(width, height, d) {
+    BitImage* images[] = {&line, &end, &tmp};
+    for (int i = 0; i < 3; ++i) {
+      *images[i] = {words.get() + std::size_t(i) * stride * cells_h, cells_w, cells_h, stride};
+    }
+  }
+  // Room for a run in every eighth cell: a tape frame has one or two runs a row; a frame that
+  // needs more is speckle or a patterned floor and is reported as saturated.
+  static int max_runs(int w, int h) { return w * h / 8 > 1024 ? w * h / 8 : 1024; }
+
+  int stride;
+  std::unique_ptr<std::uint64_t[]> words;
+  std::unique_ptr<std::uint8_t[]> lut;
+  std::unique_ptr<std::uint16_t[]> vsum;  // one row of vertical block sums
+  std::unique_ptr<std::uint8_t[]> q;      // one row of quantised block sums
+  BitImage line, end, tmp;
+  RunLabeler labeler;
+  BlobRefiner refiner;
+};
+
+LineDetector::LineDetector(const CameraModel& camera, const LineDetectorConfig& config)
+    : cam_(camera), cfg_(config) {
+  const int w = camera.mount().width, h = camera.mount().height;
+  cfg_.decimation = normalised_decimation(config.decimation);
+  const double scale = double(w) * h / (640.0 * 480.0);
+  if (cfg_.min_area_px <= 0) cfg_.min_area_px = 6000.0 * scale;
+  if (cfg_.min_end_area_px <= 0) cfg_.min_end_area_px = 1500.0 * scale;
+  const int d = cfg_.decimation;
+  buf_ = std::make_unique<Buffers>(w, h, w / d > 0 ? w / d : 1, h / d > 0 ? h / d : 1, d);
+  color_lut::build(cfg_.line, cfg_.end, buf_->lut.get());
+}
+
+LineDetector::~LineDetector() = default;
+
+namespace {
+
+// Blob statistics from its full-resolution moments (see the pipeline notes at the top).
+Blob make_blob(const BlobSums& s, int width, int height) {
+  Blob b;
+  const double n = double(s.n), bn = double(s.bn);
+  b.area_px = n - 0.5 * bn - 1.0 > 0.0 ? n - 0.5 * bn - 1.0 : 0.0;
+  const double a = n - 0.5 * bn;  // > 0: at most every pixel is an outline pixel
+  b.centroid_px =
+      Vec2((double(s.su) - 0.5 * double(s.bsu)) / a, (double(s.sv) - 0.5 * double(s.bsv)) / a);
+  // Outline covariance (times bn^2), exact in integers before the conversion.
+  const double cuu = double(s.bn * s.bsuu - s.bsu * s.bsu);
+  const double cvv = double(s.bn * s.bsvv - s.bsv * s.bsv);
+  const double cuv = double(s.bn * s.bsuv - s.bsu * s.bsv);
+  const double theta = 0.5 * std::atan2(2.0 * cuv, cuu - cvv);
+  Vec2 axis(std::cos(theta), std::sin(theta));
+  if (axis.y() > 0.0 || (axis.y() == 0.0 && axis.x() < 0.0)) axis = -axis;
+  b.axis_px = axis;
+  b.angle_deg = std::atan2(axis.y(), axis.x()) * kRadToDeg;
+  // Area covariance with each pixel a unit square (+1/12 on the diagonal): never singular.
+  const double n2 = n * n;
+  const double auu = double(s.n * s.suu - s.su * s.su) / n2 + 1.0 / 12.0;
+  const double avv = double(s.n * s.svv - s.sv * s.sv) / n2 + 1.0 / 12.0;
+  const double auv = double(s.n * s.suv - s.su * s.sv) / n2;
+  const double mid = 0.5 * (auu + avv);
+  const double rad = std::sqrt(0.25 * (auu - avv) * (auu - avv) + auv * auv);
+  const double minor = mid - rad > 1.0 / 12.0 ? mid - rad : 1.0 / 12.0;
+  b.elongation = std::sqrt((mid + rad) / minor);
+  b.u_min = s.u_min;
+  b.u_max = s.u_max;
+  b.v_min = s.v_min;
+  b.v_max = s.v_max;
+  b.touches_edge = s.u_min == 0 || s.v_min == 0 || s.u_max == width - 1 || s.v_max == height - 1;
+  for (int i = 0; i < s.bands; ++i) {
+    if (s.band_n[i] == 0) continue;
+    const double bnd = double(s.band_n[i]);
+    b.centerline_px.push_back(Vec2(double(s.band_su[i]) / bnd, double(s.band_sv[i]) / bnd));
+  }
+  return b;
+}
+
+// Labels `mask` and fills `blobs` with up to `max_out` blobs of at least `min_area`, largest
+// first. False when the mask saturated the run storage.
+bool find_blobs(RunLabeler& lab, BlobRefiner& refiner, const hal::CameraFrame& frame,
+                const BitImage& mask, const ColorThreshold& t, int d, double min_area, int max_out,
+                StaticVector<Blob, kMaxBlobs>& blobs) {
+  blobs.clear();
+  if (!lab.label(mask)) return false;
+  constexpr int kCandidates = 6;
+  int ids[kCandidates], cells[kCandidates];
+  // Candidates by cell count, with slack: the full-resolution area can exceed the cells' by the
+  // boundary cells' partial pixels.
+  const int min_cells = int(0.8 * min_area / (d * d));
+  const int n = lab.largest(min_cells > 1 ? min_cells : 1, kCandidates, ids, cells);
+  for (int i = 0; i < n; ++i) {
+    BlobSums sums;
+    refiner.measure(frame.bgr.data(), t, lab, mask, ids[i], sums);
+    if (sums.n == 0) continue;
+    const Blob b = make_blob(sums, frame.width, frame.height);
+    if (b.area_px < min_area) continue;
+    if (blobs.full() && b.area_px <= blobs.back().area_px) continue;
+    if (blobs.full()) blobs.pop_back();
+    blobs.push_back(b);
+    for (std::size_t j = blobs.size() - 1; j > 0 && blobs[j - 1].area_px < blobs[j].area_px; --j) {
+      const Blob tmp = blobs[j];
+      blobs[j] = blobs[j - 1];
+      blobs[j - 1] = tmp;
+    }
+    if (int(blobs.size()) > max_out) blobs.pop_back();
+  }
+  return true;
+}
+
+}  // namespace
+
+bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
+  const int w = cam_.mount().width, h = cam_.mount().height;
+  if (frame.width != w || frame.height != h) return false;
+  // A camera outside what the HAL's frame can hold (or too small to decimate) is never served.
+  if (w > hal::kMaxImageWidth || h > hal::kMaxImageHeight || w < 16 || h < 16) return false;
+  const int d = cfg_.decimation;
+  Buffers& bf = *buf_;
+  const std::uint8_t* img = frame.bgr.data();
+  if (d == 2) {
+    classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+  } else if (d == 4) {
+    classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+  } else {
+    classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+  }
+  // Noise cleanup: an opening of about 5 x 5 px, as the thesis's two erosions and two dilations.
+  const int rounds = d == 1 ? 2 : 1;
+  for (const BitImage* m : {&bf.line, &bf.end}) {
+    for (int i = 0; i < rounds; ++i) erode3x3(*m, *m, bf.tmp);
+    for (int i = 0; i < rounds; ++i) dilate3x3(*m, *m, bf.tmp);
+  }
+
+  out = LineDetection{};
+  out.stamp_ns = frame.stamp_ns;
+  out.seq = frame.seq;
+  const bool line_ok = find_blobs(bf.labeler, bf.refiner, frame, bf.line, cfg_.line, d,
+                                  cfg_.min_area_px, kMaxBlobs, out.blobs);
+  out.detected = line_ok && !out.blobs.empty();
+  if (out.detected) {
+    const Blob& b = out.blobs[0];
+    for (const Vec2& p : b.centerline_px) {
+      Vec2 f;
+      if (cam_.pixel_to_floor(p, f)) out.centerline_floor.push_back(f);
+    }
+    if (!out.centerline_floor.empty()) {
+      out.near_floor = out.centerline_floor[0];
+      out.far_floor = out.centerline_floor.back();
+    }
+    // Direction on the floor: map two points a few tens of pixels either side of the centroid
+    // along the image axis (fewer when the far one would leave the floor).
+    bool mapped = cam_.pixel_to_floor(b.centroid_px, out.centroid_floor);
+    bool angle_ok = false;
+    for (double k = 0.0625 * w; mapped && !angle_ok && k >= 1.0; k *= 0.5) {
+      Vec2 near, far;
+      angle_ok = cam_.pixel_to_floor(b.centroid_px - k * b.axis_px, near) &&
+                 cam_.pixel_to_floor(b.centroid_px + k * b.axis_px, far);
+      if (angle_ok) out.angle_floor_rad = std::atan2(far.y() - near.y(), far.x() - near.x());
+    }
+    // Confidence, the product of three terms in 0..1:
+    //  - size: area / (2 x min area), capped at 1 (a strip through the whole image is about
+    //    twice the thesis's minimum area; a piece at the edge of the image is a fraction);
+    //  - shape: 0.5 + 0.5 x min(1, (elongation - 1) / 3): a strip (elongation >= 4) scores 1, a
+    //    round blob 0.5, since a tape seen end-on or at a corner can be compact;
+    //  - agreement: 1 - 0.5 x (second blob's area / largest's): a fork or a second segment of
+    //    comparable size makes the choice of the largest uncertain.
+    // 0 when the centroid does not map onto the floor, and 0 (not detected) for a saturated mask.
+    const double size = b.area_px / (2.0 * cfg_.min_area_px);
+    const double shape = 0.5 + 0.5 * std::fmin(1.0, (b.elongation - 1.0) / 3.0);
+    const double second = out.blobs.size() > 1 ? out.blobs[1].area_px / b.area_px : 0.0;
+    const double c = std::fmin(1.0, size) * shape * (1.0 - 0.5 * second);
+    out.confidence = mapped && angle_ok ? float(c) : 0.0F;
+  }
+
+  StaticVector<Blob, kMaxBlobs> ends;
+  if (find_blobs(bf.labeler, bf.refiner, frame, bf.end, cfg_.end, d, cfg_.min_end_area_px, 1,
+                 ends) &&
+      !ends.empty()) {
+    out.end_blob = ends[0];
+    out.end_detected = cam_.pixel_to_floor(out.end_blob.centroid_px, out.end_floor);
+  }
+  return true;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,50 @@
+#include "firmware/perception/ObstacleField.hpp"
+
+#include <cmath>
+
+namespace carril::fw {
+
+void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
+  pts_.clear();
+  const double c = std::cos(myaw_), s = std::sin(myaw_);
+  for (int i = 0; i < scan.count && i < hal::kMaxScanBeams; ++i) {
+    const float r = scan.ranges_m[std::size_t(i)];
+    // isfinite first: comparing a NaN would raise FE_INVALID.
+    if (!std::isfinite(r) || r <= 0.0F || r < scan.range_min_m || r > scan.range_max_m) {
+      ++invalid_beams_;
+      continue;
+    }
+    const double a = double(scan.angle_min_rad) + i * double(scan.angle_increment_rad);
+    const double sx = double(r) * std::cos(a), sy = double(r) * std::sin(a);
+    const Vec2 robot(mx_ + c * sx - s * sy, my_ + s * sx + c * sy);
+    pts_.push_back(to_world(odom, robot));
+  }
+  valid_ = true;
+}
+
+double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) const {
+  double best = max_m;
+  const double half_w = fp_.half_width_m + margin_m;
+  for (const Vec2& w : pts_) {
+    const Vec2 p = to_robot(odom, w);
+    if (p.x() > fp_.half_length_m && std::fabs(p.y()) <= half_w) {
+      const double d = p.x() - fp_.half_length_m;
+      if (d < best) best = d;
+    }
+  }
+  return best;
+}
+
+double ObstacleField::clearance_m(const Pose2& odom) const {
+  double best = 1e9;
+  for (const Vec2& w : pts_) {
+    const Vec2 p = to_robot(odom, w);
+    const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
+    const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
+    const double d = std::sqrt(dx * dx + dy * dy);
+    if (d < best) best = d;
+  }
+  return best;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,161 @@
+#include "firmware/perception/TapeMap.hpp"
+
+#include <cmath>
+
+namespace carril::fw {
+
+namespace {
+constexpr double kMinSpacing = 0.06;    // [m] between stored points: headings from shorter
+                                        // steps would be mostly pixel noise
+constexpr double kBackExtension = 1.5;  // tape assumed straight behind the first point [m]
+
+}  // namespace
+
+void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
+  if (n < 2) return;
+  // The new frame sees the tape from its nearest visible point on, better than memory does: keep
+  // only remembered points behind that point (already passed under the camera).
+  const double near_x = pts_robot[0].x() - 0.005;
+  StaticVector<Vec2, kMaxPoints> kept;
+  for (const Vec2& p : pts_) {
+    if (to_robot(odom, p).x() < near_x) kept.push_back(p);
+  }
+  // Trim the oldest points (far behind by then) so there is room.
+  const std::size_t room = kMaxPoints - n;
+  const std::size_t skip = kept.size() > room ? kept.size() - room : 0;
+  pts_.clear();
+  for (std::size_t i = skip; i < kept.size(); ++i) pts_.push_back(kept[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 w = to_world(odom, pts_robot[i]);
+    if (!pts_.empty() && (w - pts_.back()).norm() < kMinSpacing) continue;
+    // Tape does not double back within a few centimetres: a point that would turn the path by
+    // more than about 100 deg is a centroid of a band that straddles both legs of a corner.
+    if (pts_.size() >= 2) {
+      const Vec2 a = pts_.back() - pts_[pts_.size() - 2], b = w - pts_.back();
+      if (a.dot(b) < -0.2 * a.norm() * b.norm()) continue;
+    }
+    pts_.push_back(w);
+  }
+}
+
+bool TapeMap::far_segment(double span_m, Vec2& point, double& heading) const {
+  if (pts_.size() < 2) return false;
+  const Vec2& last = pts_.back();
+  std::size_t i = pts_.size() - 1;
+  while (i > 0 && (pts_[i - 1] - last).norm() < span_m) --i;
+  if (i > 0) --i;
+  const Vec2 d = last - pts_[i];
+  if (d.norm() < 1e-3) return false;
+  point = last;
+  heading = std::atan2(d.y(), d.x());
+  return true;
+}
+
+double TapeMap::start_curvature() const {
+  // Heading change between the first two 0.15 m chords of the remembered tape.
+  std::size_t i1 = 1;
+  while (i1 < pts_.size() && (pts_[i1] - pts_[0]).norm() < 0.15) ++i1;
+  std::size_t i2 = i1 + 1;
+  while (i2 < pts_.size() && (pts_[i2] - pts_[i1]).norm() < 0.15) ++i2;
+  if (i2 >= pts_.size()) return 0.0;
+  const Vec2 c1 = pts_[i1] - pts_[0], c2 = pts_[i2] - pts_[i1];
+  const double dh = wrap_angle(std::atan2(c2.y(), c2.x()) - std::atan2(c1.y(), c1.x()));
+  return dh / (0.5 * (c1.norm() + c2.norm()));
+}
+
+TrackState TapeMap::track(const Pose2& odom, double lookahead_m, double preview_m) const {
+  TrackState t;
+  if (pts_.size() < 2) return t;
+  const Vec2 q(odom.x, odom.y);
+  // Nearest point on the polyline, with the first segment extended backwards (the robot may not
+  // have reached the first remembered point yet).
+  double best = 1e18;
+  std::size_t seg = 0;
+  double seg_u = 0.0;
+  for (std::size_t i = 0; i + 1 < pts_.size(); ++i) {
+    const Vec2 a = pts_[i], d = pts_[i + 1] - pts_[i];
+    const double len2 = d.squaredNorm();
+    if (len2 < 1e-12) continue;
+    double u = (q - a).dot(d) / len2;
+    const double lo = i == 0 ? -kBackExtension / std::sqrt(len2) : 0.0;
+    u = clampd(u, lo, 1.0);
+    const double dist2 = (a + u * d - q).squaredNorm();
+    if (dist2 < best) {
+      best = dist2;
+      seg = i;
+      seg_u = u;
+    }
+  }
+  const Vec2 a = pts_[seg], d = pts_[seg + 1] - pts_[seg];
+  const double seg_len = d.norm();
+  if (seg_len < 1e-9) return t;
+  const Vec2 dir = d / seg_len;
+  Vec2 nearest = a + seg_u * d;
+  double tape_heading = std::atan2(dir.y(), dir.x());
+  if (seg == 0 && seg_u < 0.0) {
+    // Behind the first remembered point: continue the tape backwards along the circle it bends
+    // on there, so a robot standing on a curve is not told it is off the tape. The first chord's
+    // direction is the tangent at its middle; the tangent at the point is half a chord back.
+    const double k = start_curvature();
+    const double h0 = tape_heading - 0.5 * k * seg_len;
+    const Vec2 t0(std::cos(h0), std::sin(h0));
+    const Vec2 n0(-t0.y(), t0.x());
+    if (std::fabs(k) < 1e-4) {
+      nearest = a + (q - a).dot(t0) * t0;
+      tape_heading = h0;
+    } else {
+      const Vec2 c = a + n0 / k;  // centre (left of the tape for k > 0)
+      const Vec2 rq = q - c, ra = a - c;
+      const double r = 1.0 / std::fabs(k);
+      nearest = rq.norm() > 1e-9 ? Vec2(c + rq * (r / rq.norm())) : a;
+      const Vec2 rn = nearest - c;
+      // Angle swept about the centre from the first point to the nearest one.
+      const double phi = std::atan2(ra.x() * rn.y() - ra.y() * rn.x(), ra.dot(rn));
+      tape_heading = h0 + phi;  // along a circle the heading turns by the angle swept
+    }
+  }
+  // Signed offset: + when the tape is to the robot's left.
+  t.lateral_m = to_robot(odom, nearest).y();
+  t.tape_heading_odom = tape_heading;
+  t.heading_err_rad = wrap_angle(tape_heading - odom.yaw);
+  // Walk forward along the path for the look-ahead point, the preview curvature and corners.
+  double walked = (1.0 - seg_u) * seg_len;
+  Vec2 la = pts_[seg + 1];
+  bool la_set = walked >= lookahead_m;
+  if (la_set) la = nearest + dir * lookahead_m;
+  double prev_heading = tape_heading;
+  double turn_sum = 0.0;
+  double preview_used = 0.0;
+  double sharpest = 0.0;
+  for (std::size_t i = seg + 1; i + 1 < pts_.size(); ++i) {
+    const Vec2 s = pts_[i + 1] - pts_[i];
+    const double len = s.norm();
+    if (len < 1e-9) continue;
+    const double h = std::atan2(s.y(), s.x());
+    const double dh = wrap_angle(h - prev_heading);
+    if (walked <= preview_m) {
+      turn_sum += dh;
+      preview_used = walked + len;
+      // A corner is a sharp heading change concentrated over a short stretch.
+      if (std::fabs(dh) > std::fabs(sharpest)) {
+        sharpest = dh;
+        t.corner_dist_m = walked;
+        t.corner_turn_rad = dh;
+      }
+    }
+    if (!la_set && walked + len >= lookahead_m) {
+      la = pts_[i] + s / len * (lookahead_m - walked);
+      la_set = true;
+    }
+    walked += len;
+    prev_heading = h;
+  }
+  t.remaining_m = walked;
+  if (!la_set) la = pts_.back();
+  t.lookahead = to_robot(odom, la);
+  t.curvature_ahead = preview_used > 1e-3 ? turn_sum / preview_used : 0.0;
+  t.valid = true;
+  return t;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,49 @@
+#pragma once
+// A short memory of the tape in the odometry frame. The camera sees the tape well ahead of the
+// robot (0.7 to 1.8 m on campero); remembering those points lets the controllers measure the
+// tape where it matters, under the robot's centre, and keep following briefly when the view is
+// empty. Each new frame replaces what memory held from its nearest visible tape point on; points
+// the robot has left behind are kept until there is no room for newer ones.
+#include "firmware/core/Geometry.hpp"
+#include "firmware/core/StaticVector.hpp"
+
+namespace carril::fw {
+
+// Where the robot is relative to the remembered tape.
+struct TrackState {
+  bool valid = false;
+  double lateral_m = 0.0;         // tape's offset from the robot centre, + = tape to the left [m]
+  double heading_err_rad = 0.0;   // tape heading minus robot heading at the nearest point [rad]
+  double curvature_ahead = 0.0;   // mean signed curvature over the next preview distance [1/m]
+  Vec2 lookahead = Vec2::Zero();  // point `lookahead_m` further along the tape, robot frame [m]
+  double remaining_m = 0.0;       // remembered tape ahead of the nearest point [m]
+  // The sharpest turn within the preview distance: where it is and how much it turns.
+  double corner_dist_m = 1e9;      // along the tape from the nearest point [m]
+  double corner_turn_rad = 0.0;    // signed heading change at it (+ = left)
+  double tape_heading_odom = 0.0;  // tape direction at the nearest point, odometry frame [rad]
+};
+
+class TapeMap {
+ public:
+  static constexpr std::size_t kMaxPoints = 160;
+
+  void clear() { pts_.clear(); }
+  bool empty() const { return pts_.size() < 2; }
+  std::size_t size() const { return pts_.size(); }
+
+  // New centre-line points (robot frame, near to far) seen from odometry pose `odom`.
+  void add(const Pose2& odom, const Vec2* pts_robot, std::size_t n);
+  // Tracking quantities for a robot at `odom`.
+  TrackState track(const Pose2& odom, double lookahead_m, double preview_m) const;
+  // The farthest remembered stretch of tape (at least `span_m` long): a point on it and its
+  // direction, odometry frame. Where the tape runs under an obstacle, this is its line there.
+  bool far_segment(double span_m, Vec2& point, double& heading) const;
+  // Remembered points, odometry frame, in path order.
+  const StaticVector<Vec2, kMaxPoints>& points() const { return pts_; }
+
+ private:
+  double start_curvature() const;
+  StaticVector<Vec2, kMaxPoints> pts_;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,281 @@
+// BypassPlanner: side choice, blocked paths, waypoints, refinement; drive_to.
+#include "firmware/behavior/BypassPlanner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/unit/behavior/BehaviorBuilders.hpp"
+
+namespace carril::fw {
+namespace {
+
+using test::add_box;
+using test::add_box_in;
+using test::add_wall;
+using test::field_of;
+using test::World;
+
+constexpr double kLane = 0.5 + 0.30 + 0.25;  // box half-width + clearance + robot half-width
+
+class BypassPlannerTest : public testing::Test {
+ protected:
+  BypassPlan plan_from(const World& w, const Pose2& robot = {}, const Vec2& tape = Vec2::Zero(),
+                       double heading = 0.0) const {
+    return planner.plan(field_of(w, robot, fp), robot, tape, heading);
+  }
+  AvoidConfig cfg;
+  Footprint fp;
+  BypassPlanner planner{cfg, fp};
+};
+
+// A 1 m box on the tape 1 m ahead of the robot's centre.
+World box_ahead() {
+  World w;
+  add_box(w, 1.0, 2.0, -0.5, 0.5);
+  return w;
+}
+
+TEST_F(BypassPlannerTest, FreeBothSidesLaneIsHalfWidthPlusClearancePlusRobot) {
+  const BypassPlan p = plan_from(box_ahead());
+  ASSERT_TRUE(p.ok);
+  EXPECT_FALSE(p.blocked);
+  ASSERT_TRUE(p.side == 1 || p.side == -1);
+  EXPECT_NEAR(p.lateral, p.side * kLane, 0.01);
+  EXPECT_NEAR(p.x_near, 1.0, 0.005);
+  EXPECT_NEAR(p.x_far, 2.0, 0.02);  // far side unseen: assumed as deep as wide
+  EXPECT_NEAR(p.y_min, -0.5, 0.01);
+  EXPECT_NEAR(p.y_max, 0.5, 0.01);
+  EXPECT_DOUBLE_EQ(p.heading, 0.0);
+}
+
+TEST_F(BypassPlannerTest, WaypointsAsideThenPastThenBackOnTheTape) {
+  const BypassPlan p = plan_from(box_ahead());
+  ASSERT_TRUE(p.ok);
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  const double past = p.x_far + cfg.clearance_m + fp.half_length_m;
+  // Beside the robot.
+  EXPECT_NEAR(p.waypoints[0].x(), 0.0, 1e-9);
+  EXPECT_NEAR(p.waypoints[0].y(), p.lateral, 1e-9);
+  // Past the far side by clearance + half length, still in the lane.
+  EXPECT_NEAR(p.waypoints[1].x(), past, 1e-9);
+  EXPECT_NEAR(p.waypoints[1].x(), 2.0 + 0.3 + 0.25, 0.02);
+  EXPECT_NEAR(p.waypoints[1].y(), p.lateral, 1e-9);
+  // Back on the tape, beyond.
+  EXPECT_GT(p.waypoints[2].x(), past);
+  EXPECT_NEAR(p.waypoints[2].y(), 0.0, 1e-9);
+}
+
+TEST_F(BypassPlannerTest, WallCloseOnOneSideGoesTheOtherWay) {
+  for (const double wall_side : {1.0, -1.0}) {
+    World w = box_ahead();
+    add_wall(w, {-1.0, wall_side * 1.3}, {5.0, wall_side * 1.3});  // 0.8 m beside the box
+    const BypassPlan p = plan_from(w);
+    ASSERT_TRUE(p.ok) << "wall " << wall_side;
+    EXPECT_EQ(p.side, -int(wall_side));
+    EXPECT_NEAR(p.lateral, -wall_side * kLane, 0.01);
+  }
+}
+
+TEST_F(BypassPlannerTest, BothSidesPassableChoosesTheFreerOne) {
+  for (const double s : {1.0, -1.0}) {
+    World w = box_ahead();
+    add_wall(w, {-1.0, s * 1.8}, {5.0, s * 1.8});    // 1.3 m free
+    add_wall(w, {-1.0, -s * 2.0}, {5.0, -s * 2.0});  // 1.5 m free
+    const BypassPlan p = plan_from(w);
+    ASSERT_TRUE(p.ok);
+    EXPECT_EQ(p.side, -int(s));
+  }
+}
+
+TEST_F(BypassPlannerTest, BothSidesAmpleChoosesTheShorterDetour) {
+  World w;
+  add_box(w, 1.0, 2.0, -0.3, 0.7);  // sticks out more to the left
+  const BypassPlan p = plan_from(w);
+  ASSERT_TRUE(p.ok);
+  EXPECT_EQ(p.side, -1);
+  EXPECT_NEAR(p.lateral, -(0.3 + 0.3 + 0.25), 0.01);
+}
+
+TEST_F(BypassPlannerTest, BothSidesTooNarrowIsBlocked) {
+  World w = box_ahead();
+  add_wall(w, {-1.0, 1.3}, {5.0, 1.3});
+  add_wall(w, {-1.0, -1.3}, {5.0, -1.3});
+  const BypassPlan p = plan_from(w);
+  EXPECT_TRUE(p.blocked);
+  EXPECT_FALSE(p.ok);
+}
+
+TEST_F(BypassPlannerTest, WiderThanTheMaximumDetourIsBlocked) {
+  World w;
+  add_box(w, 1.0, 1.3, -3.0, 3.0);
+  const BypassPlan p = plan_from(w);
+  EXPECT_TRUE(p.blocked);
+  EXPECT_FALSE(p.ok);
+}
+
+TEST_F(BypassPlannerTest, NothingAheadIsNeitherOkNorBlocked) {
+  World beside, behind;
+  add_box(beside, 1.0, 2.0, 0.5, 1.0);  // outside the corridor (half-width 0.35)
+  add_box(behind, -2.0, -1.0, -0.5, 0.5);
+  for (const World& w : {World{}, beside, behind}) {
+    const BypassPlan p = plan_from(w);
+    EXPECT_FALSE(p.ok);
+    EXPECT_FALSE(p.blocked);
+    EXPECT_EQ(p.waypoints.size(), 0U);
+  }
+}
+
+TEST_F(BypassPlannerTest, PlansInTheTapeFrame) {
+  const Vec2 o(1.0, 2.0);
+  const double h = 0.7;
+  const Pose2 f{o.x(), o.y(), h};
+  const Pose2 robot{to_world(f, {0.0, 0.1}).x(), to_world(f, {0.0, 0.1}).y(), h + 0.05};
+  World w;
+  add_box_in(w, o, h, 1.0, 2.0, -0.5, 0.5);
+  const BypassPlan p = plan_from(w, robot, o, h);
+  ASSERT_TRUE(p.ok);
+  EXPECT_NEAR(std::fabs(p.lateral), kLane, 0.01);
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  const Vec2 w0 = to_robot(f, p.waypoints[0]), w1 = to_robot(f, p.waypoints[1]),
+             w2 = to_robot(f, p.waypoints[2]);
+  EXPECT_NEAR(w0.x(), 0.0, 1e-9);
+  EXPECT_NEAR(w0.y(), p.lateral, 1e-9);
+  EXPECT_NEAR(w1.x(), 2.55, 0.02);
+  EXPECT_NEAR(w1.y(), p.lateral, 1e-9);
+  EXPECT_GT(w2.x(), w1.x());
+  EXPECT_NEAR(w2.y(), 0.0, 1e-9);
+}
+
+TEST_F(BypassPlannerTest, RefineExtendsThePlanWhenTheFarSideShows) {
+  World w;
+  add_box(w, 1.0, 3.0, -0.5, 0.5);  // 2 m deep
+  BypassPlan p = plan_from(w);
+  ASSERT_TRUE(p.ok);
+  ASSERT_NEAR(p.x_far, 2.0, 0.02);
+  const BypassPlan before = p;
+  // The same view again: nothing new.
+  planner.refine(field_of(w, Pose2{}, fp), p);
+  EXPECT_DOUBLE_EQ(p.x_far, before.x_far);
+  EXPECT_EQ(p.waypoints[1], before.waypoints[1]);
+  // From the passing lane the whole side is in view.
+  const Pose2 beside{1.5, p.lateral, 0.0};
+  planner.refine(field_of(w, beside, fp), p);
+  EXPECT_NEAR(p.x_far, 3.0, 0.02);
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  EXPECT_NEAR(p.waypoints[0].x(), before.waypoints[0].x(), 1e-9);  // still beside the robot
+  EXPECT_NEAR(p.waypoints[0].y(), p.lateral, 1e-9);
+  EXPECT_GE(std::fabs(p.lateral), std::fabs(before.lateral));  // the lane never moves closer
+  EXPECT_NEAR(p.waypoints[1].x(), 3.0 + 0.3 + 0.25, 0.02);
+  EXPECT_NEAR(p.waypoints[1].y(), p.lateral, 1e-9);
+  EXPECT_GT(p.waypoints[2].x(), p.waypoints[1].x());
+  EXPECT_NEAR(p.waypoints[2].y(), 0.0, 1e-9);
+  EXPECT_NEAR(std::fabs(p.lateral), kLane, 0.01);  // not wider: same lane
+}
+
+// Wider further back than its front face (hidden behind it from the first view): once seen from
+// the passing lane, the lane moves out to keep the clearance.
+TEST_F(BypassPlannerTest, RefineMovesTheLaneOutWhenTheObstacleWidens) {
+  World w;
+  add_box(w, 1.0, 2.0, -0.5, 0.5);
+  add_box(w, 2.0, 2.6, -0.5, 0.6);
+  BypassPlan p = plan_from(w);
+  ASSERT_TRUE(p.ok);
+  ASSERT_EQ(p.side, 1);  // both sides free and the front looks symmetric: left
+  ASSERT_NEAR(p.lateral, kLane, 0.01);
+  planner.refine(field_of(w, Pose2{1.5, p.lateral, 0.0}, fp), p);
+  EXPECT_NEAR(p.y_max, 0.6, 0.01);
+  EXPECT_NEAR(p.lateral, 0.6 + 0.3 + 0.25, 0.01);
+  EXPECT_NEAR(p.x_far, 2.6, 0.02);
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  EXPECT_NEAR(p.waypoints[0].y(), p.lateral, 1e-9);
+  EXPECT_NEAR(p.waypoints[1].y(), p.lateral, 1e-9);
+  EXPECT_NEAR(p.waypoints[1].x(), 2.6 + 0.3 + 0.25, 0.02);
+  // A later view that misses the wide part does not bring the lane back in.
+  const double lane = p.lateral;
+  planner.refine(field_of(box_ahead(), Pose2{}, fp), p);
+  EXPECT_DOUBLE_EQ(p.lateral, lane);
+}
+
+TEST_F(BypassPlannerTest, RefineLeavesAFailedPlanAlone) {
+  BypassPlan p;  // ok == false
+  planner.refine(field_of(box_ahead(), Pose2{}, fp), p);
+  EXPECT_FALSE(p.ok);
+  EXPECT_EQ(p.waypoints.size(), 0U);
+}
+
+// ---------------------------------------------------------------------------------------------
+// drive_to
+
+TEST(BypassPlannerDriveTo, HolonomicTranslatesTowardTheWaypointAndHoldsHeading) {
+  bool reached = true;
+  const Pose2 o{0.0, 0.0, 0.3};
+  const Vec2 wp(1.0, 1.0);
+  const Twist t = drive_to(o, wp, 0.0, true, 0.3, reached);
+  EXPECT_FALSE(reached);
+  const Vec2 e = to_robot(o, wp);
+  EXPECT_NEAR(std::atan2(t.vy, t.vx), std::atan2(e.y(), e.x()), 1e-9);
+  EXPECT_NEAR(std::hypot(t.vx, t.vy), 0.3 + 0.03, 1e-9);
+  EXPECT_NEAR(t.wz, -0.6, 1e-9);  // back toward the held heading
+  const Twist u = drive_to(Pose2{0.0, 0.0, 0.0}, wp, 0.0, true, 0.3, reached);
+  EXPECT_EQ(u.wz, 0.0);
+}
+
+TEST(BypassPlannerDriveTo, DifferentialTurnsOnTheSpotWhenTheBearingIsLarge) {
+  bool reached = true;
+  const Twist l = drive_to(Pose2{}, Vec2(0.0, 1.0), 0.0, false, 0.3, reached);
+  EXPECT_FALSE(reached);
+  EXPECT_EQ(l.vx, 0.0);
+  EXPECT_EQ(l.vy, 0.0);
+  EXPECT_GT(l.wz, 0.0);
+  const Twist r = drive_to(Pose2{}, Vec2(0.2, -1.0), 0.0, false, 0.3, reached);
+  EXPECT_EQ(r.vx, 0.0);
+  EXPECT_LT(r.wz, 0.0);
+  const Twist b = drive_to(Pose2{}, Vec2(-1.0, 0.01), 0.0, false, 0.3, reached);  // behind
+  EXPECT_EQ(b.vx, 0.0);
+  EXPECT_NE(b.wz, 0.0);
+}
+
+TEST(BypassPlannerDriveTo, DifferentialDrivesWhenTheBearingIsSmall) {
+  bool reached = true;
+  const Twist t = drive_to(Pose2{}, Vec2(1.0, 0.05), 0.0, false, 0.3, reached);
+  EXPECT_FALSE(reached);
+  EXPECT_GT(t.vx, 0.0);
+  EXPECT_EQ(t.vy, 0.0);
+  EXPECT_GT(t.wz, 0.0);
+  EXPECT_NEAR(t.wz, 2.0 * std::atan2(0.05, 1.0), 1e-9);
+}
+
+TEST(BypassPlannerDriveTo, ReachedWithinFourCentimetres) {
+  for (const bool holo : {true, false}) {
+    bool reached = false;
+    const Twist in = drive_to(Pose2{}, Vec2(0.039, 0.0), 0.0, holo, 0.3, reached);
+    EXPECT_TRUE(reached);
+    EXPECT_EQ(in.vx, 0.0);
+    EXPECT_EQ(in.vy, 0.0);
+    EXPECT_EQ(in.wz, 0.0);
+    const Twist out = drive_to(Pose2{}, Vec2(0.041, 0.0), 0.0, holo, 0.3, reached);
+    EXPECT_FALSE(reached);
+    EXPECT_GT(out.vx, 0.0);
+  }
+}
+
+TEST(BypassPlannerDriveTo, ClosedLoopReachesTheWaypoint) {
+  for (const bool holo : {true, false}) {
+    for (const Vec2 wp : {Vec2(1.0, 0.0), Vec2(0.0, 1.05), Vec2(-0.5, -0.8), Vec2(0.15, -1.05)}) {
+      Pose2 p{0.0, 0.0, 0.0};
+      bool reached = false;
+      int ticks = 0;
+      for (; ticks < 3000 && !reached; ++ticks) {
+        const Twist t = drive_to(p, wp, 0.0, holo, 0.3, reached);
+        test::integrate_pose(p, t, test::kDt);
+        if (holo) ASSERT_LT(std::fabs(p.yaw), 1e-9);
+      }
+      EXPECT_TRUE(reached) << "holo=" << holo << " wp=" << wp.transpose();
+      EXPECT_LT((Vec2(p.x, p.y) - wp).norm(), 0.04);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace carril::fw

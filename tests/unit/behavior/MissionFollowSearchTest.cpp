@@ -1,0 +1,241 @@
+// MissionBehavior, driven tick by tick: FOLLOW (to END and SEARCH; the pid grace turn) and
+// SEARCH (left, right, back, LineNotFound; reacquiring the tape in each phase).
+#include "firmware/behavior/MissionBehavior.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tests/unit/behavior/BehaviorBuilders.hpp"
+
+namespace carril::fw {
+namespace {
+
+using test::expect_still;
+using test::kDt;
+using test::Phases;
+using test::Sim;
+
+// ---------------------------------------------------------------------------------------------
+// FOLLOW
+
+TEST(MissionBehaviorFollowTest, CommandsTheLineController) {
+  Sim s(true);
+  s.tape.p0 = Vec2(0.0, 0.05);
+  s.start_on_tape();
+  LineController ref(s.scfg, true);
+  for (int i = 0; i < 20; ++i) {
+    const TrackState t = s.tape.track(s.pose, s.scfg.marks_lookahead_m);
+    const Twist want = ref.follow(t, kDt);
+    s.step();
+    ASSERT_EQ(s.mb.state(), MissionState::Follow);
+    EXPECT_DOUBLE_EQ(s.out.twist.vx, want.vx);
+    EXPECT_DOUBLE_EQ(s.out.twist.vy, want.vy);
+    EXPECT_DOUBLE_EQ(s.out.twist.wz, want.wz);
+  }
+  EXPECT_GT(s.pose.x, 0.05);
+}
+
+TEST(MissionBehaviorFollowTest, KeepsGoingOnMemoryWhenTheViewIsEmpty) {
+  Sim s(false);
+  s.start_on_tape();
+  s.tape_in_view = false;  // the map still holds tape ahead
+  for (int i = 0; i < 50; ++i) {
+    s.step();
+    ASSERT_EQ(s.mb.state(), MissionState::Follow);
+    EXPECT_GT(s.out.twist.vx, 0.0);
+  }
+}
+
+TEST(MissionBehaviorFollowTest, ToEndWhenTheMarkIsClose) {
+  Sim s(false);
+  s.end_known = true;
+  s.end_odom = Vec2(2.0, 0.0);
+  s.start_on_tape();
+  ASSERT_TRUE(s.run_until_state(MissionState::End, 1000));
+  const double d = (s.end_odom - Vec2(s.last_in.odom.x, s.last_in.odom.y)).norm();
+  EXPECT_LT(d, s.cfg.end_approach_m);
+  EXPECT_GT(d, s.cfg.end_approach_m - 0.01);
+  EXPECT_STREQ(s.mb.phase(), "approach");
+  EXPECT_GT(s.out.twist.vx, 0.0);  // the first END tick already drives toward the mark
+}
+
+TEST(MissionBehaviorFollowTest, IgnoresAnUnknownEndMark) {
+  Sim s(false);
+  s.end_odom = Vec2(1.0, 0.0);  // end_known false: a stale position must not count
+  s.start_on_tape();
+  for (int i = 0; i < 400; ++i) s.step();
+  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_GT(s.pose.x, 1.0);
+}
+
+// Memory exhausted (map empty) and lost_frames fresh frames without tape: SEARCH.
+TEST(MissionBehaviorFollowTest, ToSearchAfterLostFrames) {
+  Sim s(false);
+  s.start_on_tape();
+  s.frame_every = 2;
+  for (int i = 0; i < 8; ++i) s.step();
+  ASSERT_EQ(s.ticks % 2, 0);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  // Fresh frames now on every even tick: the third one (the fifth tick) starts the search.
+  for (int i = 0; i < 4; ++i) {
+    s.step();
+    ASSERT_EQ(s.mb.state(), MissionState::Follow) << "tick " << i;
+    EXPECT_FALSE(s.out.clear_map);
+    EXPECT_EQ(s.mb.line_lost_events(), 0U);
+  }
+  s.step();
+  EXPECT_EQ(s.mb.state(), MissionState::Search);
+  EXPECT_STREQ(s.mb.phase(), "left");
+  EXPECT_TRUE(s.out.clear_map);
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+  EXPECT_EQ(s.mb.line_reacquired_events(), 0U);
+}
+
+TEST(MissionBehaviorFollowTest, ToSearchAtTheEndOfRememberedTape) {
+  Sim s(false);
+  s.tape.end_s = 2.0;
+  s.start_on_tape();
+  ASSERT_TRUE(s.run_until_state(MissionState::Search, 3000));
+  const double remaining = s.tape.end_s - s.tape.along(s.last_in.odom);
+  EXPECT_LT(remaining, 0.05 + 1e-9);
+  EXPECT_GT(remaining, 0.0);
+  EXPECT_TRUE(s.out.clear_map);
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+  EXPECT_EQ(s.phases, Phases({"find", "track", "left"}));
+}
+
+// pid: first turns toward the side of the last error for pid_lost_grace_s, then searches.
+class MissionBehaviorPidLost : public testing::TestWithParam<double> {};
+
+TEST_P(MissionBehaviorPidLost, GraceTurnTowardTheLastError) {
+  const double side = GetParam();
+  Sim s(false, Strategy::Pid);
+  s.tape.p0 = Vec2(0.0, 0.1 * side);
+  s.start_on_tape();
+  for (int i = 0; i < 5; ++i) s.step();
+  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  LineController ref(s.scfg, false);
+  TrackState t;
+  t.valid = true;
+  t.remaining_m = 5.0;
+  t.lookahead = Vec2(0.3, 0.1 * side);
+  ref.follow(t, kDt);
+  const Twist lost = ref.lost(kDt);
+  ASSERT_GT(lost.wz * side, 0.0);
+
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  s.step();
+  s.step();
+  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  s.step();  // third frame without tape: the grace period starts
+  const double t0 = s.last_in.t_s;
+  int grace_ticks = 0;
+  while (s.mb.state() == MissionState::Follow && grace_ticks < 500) {
+    EXPECT_DOUBLE_EQ(s.out.twist.vx, lost.vx);
+    EXPECT_DOUBLE_EQ(s.out.twist.wz, lost.wz);
+    EXPECT_GT(s.out.twist.wz * side, 0.0);
+    ++grace_ticks;
+    s.step();
+  }
+  EXPECT_EQ(s.mb.state(), MissionState::Search);
+  EXPECT_NEAR(s.last_in.t_s - t0, s.cfg.pid_lost_grace_s, 0.015);
+  EXPECT_TRUE(s.out.clear_map);
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Side, MissionBehaviorPidLost, testing::Values(1.0, -1.0),
+                         [](const auto& i) { return i.param > 0 ? "Left" : "Right"; });
+
+// ---------------------------------------------------------------------------------------------
+// SEARCH
+
+// Starts a search with the robot heading `yaw` (no tape anywhere).
+void lose_tape(Sim& s, double yaw) {
+  s.pose.yaw = yaw;
+  s.tape.h = yaw;
+  s.start_on_tape();
+  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  ASSERT_TRUE(s.run_until_state(MissionState::Search, 3));
+}
+
+class MissionBehaviorSearch : public testing::TestWithParam<double> {};
+
+TEST_P(MissionBehaviorSearch, LeftRightBackThenLineNotFound) {
+  Sim s(false);
+  lose_tape(s, GetParam());
+  const double origin = s.last_in.odom.yaw;
+  const double tol = s.cfg.align_tolerance_rad;
+  auto rel = [&] { return wrap_angle(s.last_in.odom.yaw - origin); };
+  const double w = s.cfg.search_yaw_rate_radps;
+
+  ASSERT_TRUE(s.run_until(
+      [&] {
+        if (std::string(s.mb.phase()) == "left") {
+          EXPECT_DOUBLE_EQ(s.out.twist.wz, w);
+          EXPECT_EQ(s.out.twist.vx, 0.0);
+        }
+        return std::string(s.mb.phase()) == "right";
+      },
+      1000));
+  EXPECT_NEAR(rel(), kPi / 2 - tol, w * kDt + 1e-9);
+  EXPECT_DOUBLE_EQ(s.out.twist.wz, -w);
+
+  ASSERT_TRUE(s.run_until(
+      [&] {
+        if (std::string(s.mb.phase()) == "right") EXPECT_DOUBLE_EQ(s.out.twist.wz, -w);
+        return std::string(s.mb.phase()) == "back";
+      },
+      2000));
+  EXPECT_NEAR(rel(), -kPi / 2 + tol, w * kDt + 1e-9);
+
+  ASSERT_TRUE(s.run_until_state(MissionState::Fault, 1000));
+  EXPECT_LT(std::fabs(wrap_angle(rel() - kPi)), tol);
+  EXPECT_STREQ(s.mb.phase(), "stopped");
+  ASSERT_EQ(s.faults.size(), 1U);
+  EXPECT_EQ(s.faults[0], Fault::LineNotFound);
+  EXPECT_EQ(s.phases, Phases({"find", "track", "left", "right", "back", "stopped"}));
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+  EXPECT_EQ(s.mb.line_reacquired_events(), 0U);
+  EXPECT_DOUBLE_EQ(s.pose.x, s.last_in.odom.x);  // turned on the spot
+}
+
+INSTANTIATE_TEST_SUITE_P(Origin, MissionBehaviorSearch, testing::Values(0.0, 0.3, 3.0, -2.8));
+
+class MissionBehaviorReacquire : public testing::TestWithParam<const char*> {};
+
+TEST_P(MissionBehaviorReacquire, FreshFrameWithTapeReturnsToFollow) {
+  const std::string phase = GetParam();
+  Sim s(true);
+  lose_tape(s, 0.2);
+  ASSERT_TRUE(s.run_until_phase(phase, 3000));
+  for (int i = 0; i < 20; ++i) s.step();
+  ASSERT_EQ(std::string(s.mb.phase()), phase);
+  // A frame that is not fresh does not count, even if it claims tape.
+  s.script = [](BehaviorInput& in) {
+    in.fresh_frame = false;
+    in.line_visible = true;
+  };
+  s.step();
+  ASSERT_EQ(s.mb.state(), MissionState::Search);
+  s.script = nullptr;
+  s.tape_in_view = true;
+  s.step();
+  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_STREQ(s.mb.phase(), "track");
+  EXPECT_EQ(s.mb.line_reacquired_events(), 1U);
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+  EXPECT_EQ(s.phases.back(), "track");
+}
+
+INSTANTIATE_TEST_SUITE_P(Phase, MissionBehaviorReacquire, testing::Values("left", "right", "back"),
+                         [](const auto& i) { return std::string(i.param); });
+
+}  // namespace
+}  // namespace carril::fw

@@ -1,0 +1,209 @@
+// TapeMap: tracking a straight line, a circle (curved back-extension), corners; memory update.
+#include "firmware/perception/TapeMap.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace carril::fw {
+namespace {
+
+constexpr double kLookahead = 0.3, kPreview = 1.5;  // [m]
+
+// Camera-like view: points from 0.7 m to 1.8 m along a curve p(s), robot frame, every `step`.
+// (`p` must return a Vec2, not an Eigen expression of temporaries.)
+template <typename F>
+std::vector<Vec2> view(F p, double step = 0.08, double s0 = 0.7, double s1 = 1.8) {
+  std::vector<Vec2> v;
+  for (double s = s0; s <= s1 + 1e-9; s += step) v.push_back(p(s));
+  return v;
+}
+
+void add(TapeMap& m, const Pose2& o, const std::vector<Vec2>& pts) {
+  m.add(o, pts.data(), pts.size());
+}
+
+class TapeMapStraight : public testing::TestWithParam<std::pair<double, double>> {};
+
+TEST_P(TapeMapStraight, LateralAndHeadingOfALineAhead) {
+  const auto [c, th] = GetParam();  // line through robot-frame (0, c) at angle th
+  const Vec2 u(std::cos(th), std::sin(th));
+  for (const Pose2 o : {Pose2{0.0, 0.0, 0.0}, Pose2{1.0, -2.0, 2.5}}) {
+    TapeMap m;
+    add(m, o, view([&](double s) -> Vec2 { return Vec2(0.0, c) + s * u; }));
+    const TrackState t = m.track(o, kLookahead, kPreview);
+    ASSERT_TRUE(t.valid);
+    // The nearest tape point, robot frame: the foot of the perpendicular from the centre.
+    const Vec2 foot = Vec2(0.0, c) - Vec2(0.0, c).dot(u) * u;
+    EXPECT_NEAR(t.lateral_m, foot.y(), 1e-6);
+    EXPECT_NEAR(std::fabs(t.lateral_m), std::fabs(c) * std::cos(th) * std::cos(th), 1e-6);
+    EXPECT_NEAR(t.heading_err_rad, th, 1e-9);
+    EXPECT_NEAR(wrap_angle(t.tape_heading_odom - (o.yaw + th)), 0.0, 1e-9);
+    EXPECT_NEAR(t.lookahead.x(), (foot + kLookahead * u).x(), 1e-6);
+    EXPECT_NEAR(t.lookahead.y(), (foot + kLookahead * u).y(), 1e-6);
+    EXPECT_NEAR(t.curvature_ahead, 0.0, 1e-9);
+    EXPECT_NEAR(t.corner_turn_rad, 0.0, 1e-9);
+    EXPECT_NEAR(t.remaining_m, 1.74 + Vec2(0.0, c).dot(u), 1e-6);  // last point at s = 1.74
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Lines, TapeMapStraight,
+                         testing::Values(std::make_pair(0.0, 0.0), std::make_pair(0.2, 0.1),
+                                         std::make_pair(-0.15, 0.3), std::make_pair(0.1, -0.25)));
+
+// A circle of radius R (centre to the left for R > 0) tangent to the robot's x axis at its
+// centre: robot-frame point at arc length s.
+constexpr double kArcStep = 0.07;  // about 16 points over the view, as the detector gives
+
+Vec2 arc(double R, double s) {
+  const double a = s / R;
+  return {R * std::sin(a), R - R * std::cos(a)};
+}
+
+class TapeMapArc : public testing::TestWithParam<double> {};
+
+TEST_P(TapeMapArc, CurvedBackExtensionKeepsARobotOnTheArcOnIt) {
+  const double R = GetParam();
+  const Pose2 o{0.4, -0.3, 0.6};
+  TapeMap m;
+  add(m, o, view([&](double s) { return arc(R, s); }, kArcStep));
+  const TrackState t = m.track(o, kLookahead, kPreview);
+  ASSERT_TRUE(t.valid);
+  // What a straight back-extension of the first segment would say: ~ d^2 / (2R).
+  const Vec2 a = arc(R, 0.7), b = arc(R, 0.7 + kArcStep), dir = (b - a).normalized();
+  const Vec2 foot = a + (Vec2::Zero() - a).dot(dir) * dir;
+  const double straight = foot.y();
+  EXPECT_GT(std::fabs(straight), 0.7 * 0.7 / (2.0 * std::fabs(R)) * 0.8);
+  EXPECT_LT(std::fabs(t.lateral_m), 0.25 * std::fabs(straight));  // the curve helps ...
+  EXPECT_LT(std::fabs(t.lateral_m), 0.005) << "straight extension: " << straight;  // ... enough
+  EXPECT_LT(std::fabs(t.heading_err_rad), 0.05);
+  EXPECT_GT(t.curvature_ahead * R, 0.0);  // curves the right way
+  EXPECT_NEAR(t.curvature_ahead, 1.0 / R, 0.15 / std::fabs(R));
+}
+
+TEST_P(TapeMapArc, OffsetFromTheArcIsMeasured) {
+  const double R = GetParam();
+  TapeMap m;
+  add(m, Pose2{}, view([&](double s) { return arc(R, s); }, kArcStep));
+  for (const double d : {0.1, -0.1}) {  // robot d to the left of the tape where it stands
+    const TrackState t = m.track(Pose2{0.0, d, 0.0}, kLookahead, kPreview);
+    ASSERT_TRUE(t.valid);
+    EXPECT_NEAR(t.lateral_m, -d, 0.005) << "R=" << R << " d=" << d;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Radius, TapeMapArc, testing::Values(1.5, -1.5, 3.0, -3.0));
+
+TEST(TapeMapTest, NinetyDegreeCornerWithinThePreview) {
+  for (const double side : {1.0, -1.0}) {
+    std::vector<Vec2> pts;
+    for (double x = 0.7; x < 1.2 - 1e-9; x += 0.1) pts.emplace_back(x, 0.0);
+    for (double y = 0.0; y <= 0.8 + 1e-9; y += 0.1) pts.emplace_back(1.2, side * y);
+    TapeMap m;
+    add(m, Pose2{}, pts);
+    const TrackState t = m.track(Pose2{}, kLookahead, kPreview);
+    ASSERT_TRUE(t.valid);
+    EXPECT_NEAR(t.corner_turn_rad, side * kPi / 2, 0.05);
+    EXPECT_NEAR(t.corner_dist_m, 1.2, 0.1);
+    // Not within a shorter preview.
+    const TrackState near = m.track(Pose2{}, kLookahead, 0.9);
+    EXPECT_LT(std::fabs(near.corner_turn_rad), 0.1);
+  }
+}
+
+TEST(TapeMapTest, AddReplacesFromTheNewNearestPointOnAndKeepsWhatIsBehind) {
+  TapeMap m;
+  add(m, Pose2{}, view([](double s) { return Vec2(s, 0.0); }, 0.1));  // x 0.7 .. 1.8
+  ASSERT_EQ(m.size(), 12U);
+  // From 0.5 m further on the tape is seen 5 cm further left.
+  const Pose2 o{0.5, 0.0, 0.0};
+  add(m, o, view([](double s) { return Vec2(s, 0.05); }, 0.1));  // odom x 1.2 .. 2.3
+  std::size_t old = 0, fresh = 0;
+  for (const Vec2& p : m.points()) {
+    if (p.x() < 1.195) {
+      EXPECT_NEAR(p.y(), 0.0, 1e-12);
+      ++old;
+    } else {
+      EXPECT_NEAR(p.y(), 0.05, 1e-12) << "stale point at x=" << p.x();
+      ++fresh;
+    }
+  }
+  EXPECT_EQ(old, 5U);  // 0.7 .. 1.1, behind the new nearest point
+  EXPECT_EQ(fresh, 12U);
+  for (std::size_t i = 1; i < m.size(); ++i) {
+    EXPECT_GT(m.points()[i].x(), m.points()[i - 1].x());  // path order
+  }
+}
+
+TEST(TapeMapTest, AddSkipsPointsCloserThanTheMinimumSpacing) {
+  TapeMap m;
+  std::vector<Vec2> dense;
+  for (int i = 0; i < 16; ++i) dense.emplace_back(0.7 + 0.02 * i, 0.0);
+  add(m, Pose2{}, dense);
+  for (std::size_t i = 1; i < m.size(); ++i) {
+    EXPECT_GE((m.points()[i] - m.points()[i - 1]).norm(), 0.06 - 1e-12);
+  }
+  EXPECT_GE(m.size(), 5U);
+}
+
+TEST(TapeMapTest, CapacityIsRespected) {
+  TapeMap m;
+  Pose2 o;
+  for (int f = 0; f < 400; ++f) {
+    o.x += 0.05;
+    o.y = 0.3 * std::sin(0.02 * f);
+    const auto pts = view([](double s) { return Vec2(s, 0.01); }, 0.07);
+    add(m, o, pts);
+    ASSERT_LE(m.size(), TapeMap::kMaxPoints);
+    // The newest frame is all there, at the end.
+    const Vec2 last = to_world(o, pts.back());
+    ASSERT_NEAR((m.points()[m.size() - 1] - last).norm(), 0.0, 1e-9);
+  }
+  EXPECT_GT(m.size(), 100U);
+}
+
+TEST(TapeMapTest, RemainingDecreasesAsTheRobotAdvances) {
+  TapeMap m;
+  add(m, Pose2{}, view([](double s) { return Vec2(s, 0.0); }, 0.1));
+  double prev = 1e9;
+  for (double x = 0.0; x <= 1.5; x += 0.25) {
+    const TrackState t = m.track(Pose2{x, 0.02, 0.0}, kLookahead, kPreview);
+    ASSERT_TRUE(t.valid);
+    EXPECT_NEAR(t.remaining_m, 1.8 - x, 1e-6);
+    EXPECT_LT(t.remaining_m, prev);
+    prev = t.remaining_m;
+  }
+}
+
+TEST(TapeMapTest, FarSegmentIsTheLastStretchOfTape) {
+  TapeMap m;
+  Vec2 point;
+  double heading = 0.0;
+  EXPECT_FALSE(m.far_segment(0.3, point, heading));
+  std::vector<Vec2> pts;
+  for (double x = 0.7; x < 1.2 - 1e-9; x += 0.1) pts.emplace_back(x, 0.0);
+  for (double y = 0.0; y <= 0.8 + 1e-9; y += 0.1) pts.emplace_back(1.2, y);
+  const Pose2 o{2.0, 1.0, 0.5};
+  add(m, o, pts);
+  ASSERT_TRUE(m.far_segment(0.3, point, heading));
+  const Vec2 last = to_world(o, pts.back());
+  EXPECT_NEAR((point - last).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(wrap_angle(heading - (o.yaw + kPi / 2)), 0.0, 1e-9);
+}
+
+TEST(TapeMapTest, FewerThanTwoPointsIsNotTracked) {
+  TapeMap m;
+  EXPECT_TRUE(m.empty());
+  EXPECT_FALSE(m.track(Pose2{}, kLookahead, kPreview).valid);
+  const Vec2 one(0.7, 0.0);
+  m.add(Pose2{}, &one, 1);
+  EXPECT_FALSE(m.track(Pose2{}, kLookahead, kPreview).valid);
+  add(m, Pose2{}, view([](double s) { return Vec2(s, 0.0); }));
+  EXPECT_FALSE(m.empty());
+  m.clear();
+  EXPECT_FALSE(m.track(Pose2{}, kLookahead, kPreview).valid);
+}
+
+}  // namespace
+}  // namespace carril::fw

@@ -1,0 +1,333 @@
+// LineDetector unit tests: colour windows, blob selection, end mark, floor mapping, confidence,
+// frame-size checks, saturation, and no heap use inside detect().
+#include "firmware/perception/LineDetector.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "firmware/perception/ColorClassifier.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
+#include "tests/unit/perception/PerceptionFrames.hpp"
+
+namespace carril::test {
+namespace {
+
+using fw::LineDetection;
+using fw::LineDetector;
+
+bool in(const char* preset, int r, int g, int b) {
+  fw::ColorThreshold t;
+  EXPECT_TRUE(fw::color_preset(preset, t)) << preset;
+  return fw::in_threshold(t, fw::bgr_to_hsv8(b, g, r));
+}
+
+bool in(const fw::ColorThreshold& t, int r, int g, int b) {
+  return fw::in_threshold(t, fw::bgr_to_hsv8(b, g, r));
+}
+
+// A synthetic 640x480 frame: grey floor, axis-aligned rectangles.
+struct Canvas {
+  std::unique_ptr<hal::CameraFrame> f = std::make_unique<hal::CameraFrame>();
+  explicit Canvas(int w = 640, int h = 480, int grey = 100) {
+    f->width = std::uint16_t(w);
+    f->height = std::uint16_t(h);
+    f->seq = 7;
+    rect(0, 0, w, h, grey, grey, grey);
+  }
+  void rect(int u0, int v0, int u1, int v1, int r, int g, int b) {  // [u0, u1) x [v0, v1)
+    for (int v = v0; v < v1; ++v) {
+      for (int u = u0; u < u1; ++u) {
+        std::uint8_t* p = f->pixel(u, v);
+        p[0] = std::uint8_t(b);
+        p[1] = std::uint8_t(g);
+        p[2] = std::uint8_t(r);
+      }
+    }
+  }
+};
+
+const fw::CameraModel& synthetic_camera() {
+  static const fw::CameraModel cam{fw::CameraMount{}};  // 640x480
+  return cam;
+}
+
+TEST(LineDetectorTest, PresetsCoverTheirColoursOnly) {
+  fw::ColorThreshold t;
+  for (const char* n : {"white", "black", "red", "green", "blue", "yellow"}) {
+    EXPECT_TRUE(fw::color_preset(n, t)) << n;
+  }
+  EXPECT_FALSE(fw::color_preset("purple", t));
+  EXPECT_FALSE(fw::color_preset(nullptr, t));
+  EXPECT_TRUE(in("white", 255, 255, 255));
+  EXPECT_FALSE(in("white", 100, 100, 100));
+  EXPECT_FALSE(in("white", 255, 255, 0));
+  EXPECT_TRUE(in("black", 0, 0, 0));
+  EXPECT_TRUE(in("black", 40, 10, 60));  // dark, whatever the hue
+  EXPECT_FALSE(in("black", 128, 128, 128));
+  const int pure[4][3] = {{255, 0, 0}, {255, 255, 0}, {0, 255, 0}, {0, 0, 255}};
+  const char* names[4] = {"red", "yellow", "green", "blue"};
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_EQ(in(names[i], pure[j][0], pure[j][1], pure[j][2]), i == j)
+          << names[i] << " on " << names[j];
+    }
+    EXPECT_FALSE(in(names[i], 255, 255, 255)) << names[i];
+    EXPECT_FALSE(in(names[i], 100, 100, 100)) << names[i];
+  }
+}
+
+TEST(LineDetectorTest, RedHueWindowWrapsRound180) {
+  fw::ColorThreshold red;
+  ASSERT_TRUE(fw::color_preset("red", red));
+  EXPECT_GT(red.h_lo, red.h_hi);
+  EXPECT_GE(fw::bgr_to_hsv8(30, 0, 255).h, 170);  // slightly bluish red: hue just below 180
+  EXPECT_TRUE(in(red, 255, 0, 30));
+  EXPECT_LE(fw::bgr_to_hsv8(0, 30, 255).h, 10);  // slightly yellowish red: hue just above 0
+  EXPECT_TRUE(in(red, 255, 30, 0));
+  EXPECT_FALSE(in(red, 255, 0, 255));  // magenta
+  EXPECT_FALSE(in(red, 255, 128, 0));  // orange
+}
+
+TEST(LineDetectorTest, ThresholdAroundRgb) {
+  const fw::ColorThreshold red = fw::threshold_around_rgb(255, 0, 0);
+  EXPECT_GT(red.h_lo, red.h_hi);  // wraps
+  EXPECT_TRUE(in(red, 255, 0, 0));
+  EXPECT_TRUE(in(red, 200, 30, 40));
+  EXPECT_FALSE(in(red, 0, 0, 255));
+  const fw::ColorThreshold orange = fw::threshold_around_rgb(230, 120, 30);
+  EXPECT_TRUE(in(orange, 230, 120, 30));
+  EXPECT_TRUE(in(orange, 180, 95, 25));  // the same orange in shade
+  EXPECT_FALSE(in(orange, 255, 0, 0));
+  EXPECT_FALSE(in(orange, 255, 255, 0));
+  EXPECT_FALSE(in(orange, 100, 100, 100));
+  const fw::ColorThreshold white = fw::threshold_around_rgb(255, 255, 255);
+  EXPECT_TRUE(in(white, 255, 255, 255));
+  EXPECT_TRUE(in(white, 230, 235, 240));
+  EXPECT_FALSE(in(white, 100, 100, 100));
+  EXPECT_FALSE(in(white, 255, 255, 0));
+}
+
+TEST(LineDetectorTest, MinimumAreaRejectsSmallBlobs) {
+  LineDetector det(synthetic_camera(), config_for("white"));
+  EXPECT_DOUBLE_EQ(det.config().min_area_px, 6000.0);  // the thesis's value at 640x480
+  EXPECT_DOUBLE_EQ(det.config().min_end_area_px, 1500.0);
+  Canvas small;
+  small.rect(300, 200, 340, 300, 255, 255, 255);  // 40 x 100 = 4000 px
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*small.f, d));
+  EXPECT_FALSE(d.detected);
+  EXPECT_EQ(d.confidence, 0.0F);
+  EXPECT_TRUE(d.blobs.empty());
+  EXPECT_EQ(d.seq, 7U);
+  Canvas big;
+  big.rect(300, 100, 340, 300, 255, 255, 255);  // 40 x 200 = 8000 px
+  ASSERT_TRUE(det.detect(*big.f, d));
+  ASSERT_TRUE(d.detected);
+  // Area as cv::contourArea measures it: the polygon through the outline pixels' centres.
+  EXPECT_DOUBLE_EQ(d.blobs[0].area_px, 39.0 * 199.0);
+  EXPECT_NEAR(d.blobs[0].centroid_px.x(), 319.5, 1e-9);
+  EXPECT_NEAR(d.blobs[0].centroid_px.y(), 199.5, 1e-9);
+  EXPECT_NEAR(d.blobs[0].angle_deg, -90.0, 1e-6);
+  EXPECT_EQ(d.blobs[0].u_min, 300);
+  EXPECT_EQ(d.blobs[0].u_max, 339);
+  EXPECT_EQ(d.blobs[0].v_min, 100);
+  EXPECT_EQ(d.blobs[0].v_max, 299);
+  EXPECT_FALSE(d.blobs[0].touches_edge);
+  // A lower minimum accepts the small one.
+  fw::LineDetectorConfig low = config_for("white");
+  low.min_area_px = 3000;
+  LineDetector det_low(synthetic_camera(), low);
+  ASSERT_TRUE(det_low.detect(*small.f, d));
+  EXPECT_TRUE(d.detected);
+}
+
+TEST(LineDetectorTest, TwoParallelTapesGiveTwoBlobsLargestFirst) {
+  const auto rf = render_case({"two", "campero",
+                               "{color: white, points: [[-5, 0.2], [10, 0.2]]}, {color: white, "
+                               "points: [[-5, -0.15], [10, -0.15]]}",
+                               "", 0, 0, 0, 0, "white", false});
+  LineDetector det(rf->camera(), config_for("white"));
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*rf->frame, d));
+  ASSERT_TRUE(d.detected);
+  ASSERT_EQ(d.blobs.size(), 2U);
+  EXPECT_GE(d.blobs[0].area_px, d.blobs[1].area_px);
+  // The left tape (y = +0.2) is on the left of the image; either may be the larger.
+  const double u_left = std::fmin(d.blobs[0].centroid_px.x(), d.blobs[1].centroid_px.x());
+  const double u_right = std::fmax(d.blobs[0].centroid_px.x(), d.blobs[1].centroid_px.x());
+  EXPECT_LT(u_left, 319.5);
+  EXPECT_GT(u_right, 319.5);
+  // Two comparable blobs lower the confidence against a single tape.
+  const auto one = render_case({"one", "campero", kStraight, "", 0, 0, 0, 0, "white", false});
+  LineDetector det1(one->camera(), config_for("white"));
+  LineDetection d1;
+  ASSERT_TRUE(det1.detect(*one->frame, d1));
+  EXPECT_LT(d.confidence, d1.confidence);
+}
+
+TEST(LineDetectorTest, FloorMappingOfStraightAngledAndOffsetTape) {
+  struct Case {
+    sim::Pose2 pose;
+    double lateral_m, angle_deg;  // where the tape passes 1.15 m ahead, and its direction
+  } cases[] = {{pose_viewing(0, 0, 0, 1.15, 0), 0.0, 0.0},
+               {pose_viewing(0, 0, 0, 1.15, 0.15), 0.15, 0.0},
+               {pose_viewing(0, 0, 20, 1.15, 0), 0.0, 20.0},
+               {pose_viewing(0, 0, -30, 1.15, -0.1), -0.1, -30.0}};
+  for (const Case& c : cases) {
+    const auto rf = render_case({"map", "campero", kStraight, "", 0, c.pose.x, c.pose.y,
+                                 c.pose.yaw_rad * kDegPerRad, "white", false});
+    LineDetector det(rf->camera(), config_for("white"));
+    LineDetection d;
+    ASSERT_TRUE(det.detect(*rf->frame, d));
+    ASSERT_TRUE(d.detected);
+    const double a = c.angle_deg / kDegPerRad;
+    // The tape's line in the robot frame passes (1.15, lateral) with direction a.
+    auto dist = [&](const fw::Vec2& p) {
+      return std::fabs(-(p.x() - 1.15) * std::sin(a) + (p.y() - c.lateral_m) * std::cos(a));
+    };
+    EXPECT_LT(dist(d.centroid_floor), 0.01) << c.angle_deg;
+    EXPECT_NEAR(d.angle_floor_rad * kDegPerRad, c.angle_deg, 1.0);
+    ASSERT_GE(d.centerline_floor.size(), 8U);
+    for (const fw::Vec2& p : d.centerline_floor) EXPECT_LT(dist(p), 0.01);
+    EXPECT_LT(d.near_floor.x(), d.far_floor.x());
+    EXPECT_GT(d.confidence, 0.7F);
+    EXPECT_LE(d.confidence, 1.0F);
+    EXPECT_TRUE(d.blobs[0].touches_edge);
+  }
+}
+
+TEST(LineDetectorTest, CurvedTapeCentrelineBends) {
+  const auto rf = render_case({"curve", "campero", kArcLeft, "", 0, -0.2, 0, 0, "white", false});
+  LineDetector det(rf->camera(), config_for("white"));
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*rf->frame, d));
+  ASSERT_TRUE(d.detected);
+  ASSERT_GE(d.centerline_floor.size(), 8U);
+  // Arc of radius 1.5 m round (0.2, 1.5) in the robot frame: every centre-line point on it, to
+  // within the sagitta of the stretch of arc a band of rows holds (the far bands, where the
+  // tape turns across the image, hold the longest).
+  for (const fw::Vec2& p : d.centerline_floor) {
+    EXPECT_NEAR(std::hypot(p.x() - 0.2, p.y() - 1.5), 1.5, 0.02);
+  }
+  EXPECT_GT(d.far_floor.y(), d.near_floor.y() + 0.1);  // bending left
+  EXPECT_GT(d.angle_floor_rad, 0.2);
+}
+
+TEST(LineDetectorTest, EndMarkDetectedAndMapped) {
+  const auto rf =
+      render_case({"end", "campero", "{color: white, points: [[-5, 0], [1.3, 0]]}",
+                   "{color: yellow, x: 1.45, y: 0.05, radius_m: 0.15}", 0, 0, 0, 0, "white", true});
+  LineDetector det(rf->camera(), config_for("white"));
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*rf->frame, d));
+  EXPECT_TRUE(d.detected);
+  ASSERT_TRUE(d.end_detected);
+  EXPECT_GT(d.end_blob.area_px, det.config().min_end_area_px);
+  // The disc's area centroid in the image maps a little short of its centre (perspective).
+  EXPECT_NEAR(d.end_floor.x(), 1.45, 0.03);
+  EXPECT_NEAR(d.end_floor.y(), 0.05, 0.01);
+  const auto none = render_case({"noend", "campero", kStraight, "", 0, 0, 0, 0, "white", false});
+  LineDetector det2(none->camera(), config_for("white"));
+  ASSERT_TRUE(det2.detect(*none->frame, d));
+  EXPECT_FALSE(d.end_detected);
+}
+
+TEST(LineDetectorTest, WrongFrameSizeIsRefusedAndLeavesOutputAlone) {
+  LineDetector det(synthetic_camera(), config_for("white"));
+  Canvas small(320, 240);
+  LineDetection d;
+  d.seq = 1234;
+  d.detected = true;
+  EXPECT_FALSE(det.detect(*small.f, d));
+  EXPECT_EQ(d.seq, 1234U);
+  EXPECT_TRUE(d.detected);
+}
+
+TEST(LineDetectorTest, ConfidenceLowerForTinyPartialBlobThanFullStrip) {
+  fw::LineDetectorConfig cfg = config_for("white");
+  cfg.min_area_px = 1000;
+  LineDetector det(synthetic_camera(), cfg);
+  Canvas strip, corner;
+  strip.rect(300, 0, 340, 480, 255, 255, 255);     // a strip through the image
+  corner.rect(600, 440, 640, 480, 255, 255, 255);  // a 40 x 40 piece in a corner
+  LineDetection a, b;
+  ASSERT_TRUE(det.detect(*strip.f, a));
+  ASSERT_TRUE(det.detect(*corner.f, b));
+  ASSERT_TRUE(a.detected);
+  ASSERT_TRUE(b.detected);
+  EXPECT_TRUE(b.blobs[0].touches_edge);
+  EXPECT_GT(a.confidence, 0.9F);
+  EXPECT_GT(b.confidence, 0.0F);
+  EXPECT_LT(b.confidence, 0.5F * a.confidence);
+}
+
+TEST(LineDetectorTest, SaturatedMaskReportsNothing) {
+  // A checkerboard of 6 px white squares: about 13000 runs at decimation 2, more than the
+  // detector keeps room for (a run in every eighth cell).
+  Canvas c;
+  for (int v = 0; v < 480; v += 6) {
+    for (int u = ((v / 6) % 2) * 6; u < 640; u += 12) c.rect(u, v, u + 6, v + 6, 255, 255, 255);
+  }
+  LineDetector det(synthetic_camera(), config_for("white"));
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*c.f, d));
+  EXPECT_FALSE(d.detected);
+  EXPECT_EQ(d.confidence, 0.0F);
+}
+
+TEST(LineDetectorTest, AllDecimationsAgreeOnAStraightTape) {
+  const auto rf = render_case({"d", "campero", kStraight, "", 0, 0, 0.1, 12, "white", false});
+  LineDetection ref;
+  for (int dec : {1, 2, 4}) {
+    LineDetector det(rf->camera(), config_for("white", dec));
+    EXPECT_EQ(det.config().decimation, dec);
+    LineDetection d;
+    ASSERT_TRUE(det.detect(*rf->frame, d));
+    ASSERT_TRUE(d.detected) << dec;
+    if (dec == 1) {
+      ref = d;
+      continue;
+    }
+    EXPECT_NEAR(d.blobs[0].centroid_px.x(), ref.blobs[0].centroid_px.x(), 0.05) << dec;
+    EXPECT_NEAR(d.blobs[0].centroid_px.y(), ref.blobs[0].centroid_px.y(), 0.05) << dec;
+    EXPECT_NEAR(d.blobs[0].angle_deg, ref.blobs[0].angle_deg, 0.05) << dec;
+  }
+  LineDetector odd(rf->camera(), config_for("white", 3));
+  EXPECT_EQ(odd.config().decimation, 2);  // 1, 2 or 4; anything else means the default
+}
+
+TEST(LineDetectorTest, NoHeapAllocationInsideDetect) {
+  // The counter is live: an allocation inside a window is counted.
+  const std::uint64_t before = alloc::count_in_windows();
+  alloc::begin_window();
+  int* p = new int(42);
+  asm volatile("" : : "g"(p) : "memory");
+  delete p;
+  alloc::end_window();
+  ASSERT_GT(alloc::count_in_windows(), before);
+
+  std::vector<std::unique_ptr<RenderedFrame>> frames;
+  for (const FrameCase& fc : bench_cases()) frames.push_back(render_case(fc));
+  std::vector<std::unique_ptr<LineDetector>> dets;
+  for (const auto& f : frames) {
+    dets.push_back(std::make_unique<LineDetector>(f->camera(), config_for(f->fc.color)));
+  }
+  LineDetection d;
+  int detected = 0;
+  const std::uint64_t start = alloc::count_in_windows();
+  for (int i = 0; i < 320; ++i) {
+    const std::size_t k = std::size_t(i) % frames.size();
+    alloc::begin_window();
+    const bool ok = dets[k]->detect(*frames[k]->frame, d);
+    alloc::end_window();
+    ASSERT_TRUE(ok);
+    detected += d.detected ? 1 : 0;
+  }
+  EXPECT_EQ(alloc::count_in_windows(), start);
+  EXPECT_EQ(detected, 320);
+}
+
+}  // namespace
+}  // namespace carril::test
