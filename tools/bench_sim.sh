@@ -9,7 +9,7 @@ n=${1:-7}
 shift || true
 scenarios=("$@")
 [ ${#scenarios[@]} -gt 0 ] || scenarios=(scenarios/square.yaml scenarios/circle.yaml)
-sim=./build/host/host_sim/app/carril_sim
+sim=${CARRIL_SIM:-./build/host/host_sim/app/carril_sim}
 [ -x "$sim" ] || { echo "bench_sim: build first: cmake --preset host && cmake --build --preset host" >&2; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

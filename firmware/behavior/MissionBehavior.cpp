@@ -45,7 +45,10 @@ BehaviorOutput MissionBehavior::step(const BehaviorInput& in, double dt) {
     last_yaw_ = in.odom.yaw;
   }
   if (in.fresh_frame) frames_without_line_ = in.line_visible ? 0 : frames_without_line_ + 1;
-  if (in.fresh_frame && in.line_visible) line_seen_s_ = in.t_s;
+  if (in.fresh_frame && in.line_visible) {
+    line_seen_s_ = in.t_s;
+    line_seen_at_ = Vec2(in.odom.x, in.odom.y);
+  }
   // Accumulated turning, for the searches.
   turned_ += std::fabs(wrap_angle(in.odom.yaw - last_yaw_));
   last_yaw_ = in.odom.yaw;
@@ -147,7 +150,8 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
   }
   // Memory is left while there is tape ahead, or while the robot is still turning onto the last
   // remembered leg (a corner whose new leg is out of the camera's view while it turns).
-  const bool trusted = in.t_s - line_seen_s_ < cfg_.memory_trust_s;
+  const bool trusted = in.t_s - line_seen_s_ < cfg_.memory_trust_s &&
+                       (Vec2(in.odom.x, in.odom.y) - line_seen_at_).norm() < cfg_.memory_trust_m;
   const bool memory_left =
       in.track.valid && trusted &&
       (in.track.remaining_m > 0.05 || std::fabs(in.track.heading_err_rad) > 0.1);

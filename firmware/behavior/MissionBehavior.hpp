@@ -14,12 +14,14 @@
 namespace carril::fw {
 
 struct BehaviorConfig {
-  double init_timeout_s = 3.0;            // drives and sensors must be up by then [s]
-  double search_yaw_rate_radps = 0.6;     // turning speed while searching [rad/s]
-  double start_max_turn_rad = 6.4;        // START gives up after a full turn without tape [rad]
-  int lost_frames = 3;                    // frames without tape (and no tape left in memory)
-  double memory_trust_s = 2.5;            // remembered tape unconfirmed by any frame this long is
-                                          // not trusted any more (longer than a corner pivot) [s]
+  double init_timeout_s = 3.0;         // drives and sensors must be up by then [s]
+  double search_yaw_rate_radps = 0.6;  // turning speed while searching [rad/s]
+  double start_max_turn_rad = 6.4;     // START gives up after a full turn without tape [rad]
+  int lost_frames = 3;                 // frames without tape (and no tape left in memory)
+  // Remembered tape that no frame has confirmed over this distance, or this long, is not
+  // trusted any more: more than the camera's blind zone plus a corner pivot.
+  double memory_trust_m = 1.2;            // [m]
+  double memory_trust_s = 8.0;            // [s]
   double pid_lost_grace_s = 1.0;          // pid turns toward the last error this long first [s]
   double end_approach_m = 0.9;            // switch to END when the mark is this close [m]
   double end_speed_mps = 0.25;            // [m/s]
@@ -98,7 +100,8 @@ class MissionBehavior {
   double since_s_ = 0.0;
   bool started_ = false;
   int frames_without_line_ = 0;
-  double line_seen_s_ = 0.0;  // when a frame last showed tape
+  double line_seen_s_ = 0.0;          // when a frame last showed tape
+  Vec2 line_seen_at_ = Vec2::Zero();  // and where the robot was then (odometry frame)
   double no_track_since_s_ = -1.0;
   double turned_ = 0.0, last_yaw_ = 0.0;  // accumulated turning in START / SEARCH [rad]
   double search_origin_yaw_ = 0.0;
