@@ -11,6 +11,7 @@ namespace carril::sim {
 namespace {
 
 using test::edit;
+using test::fails_with;
 using test::kFullYaml;
 using test::kMinimalYaml;
 using test::kPath;
@@ -20,23 +21,6 @@ using test::robots_dir;
 LoadResult load_with(const std::string& yaml, const std::string& preset,
                      const std::string& strategy) {
   return load_scenario_text(yaml, kPath, robots_dir(), ScenarioOverrides{preset, strategy});
-}
-
-::testing::AssertionResult fails_with(const LoadResult& r,
-                                      std::initializer_list<std::string> fragments) {
-  if (r.ok) return ::testing::AssertionFailure() << "loaded, expected an error";
-  if (r.error.rfind(kPath + ":", 0) != 0) {
-    return ::testing::AssertionFailure() << "message does not start with the path: " << r.error;
-  }
-  if (r.error.find('\n') != std::string::npos) {
-    return ::testing::AssertionFailure() << "message spans lines: " << r.error;
-  }
-  for (const auto& f : fragments) {
-    if (r.error.find(f) == std::string::npos) {
-      return ::testing::AssertionFailure() << "message lacks '" << f << "': " << r.error;
-    }
-  }
-  return ::testing::AssertionSuccess() << r.error;
 }
 
 TEST(ScenarioOverride, EmptyOverridesKeepTheFile) {

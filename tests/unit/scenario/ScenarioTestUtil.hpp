@@ -89,10 +89,9 @@ inline int line_of(const std::string& text, const std::string& needle) {
   return line;
 }
 
-// Loading fails with one message that starts with the file path and contains every fragment.
-inline ::testing::AssertionResult fails_with(const std::string& yaml,
+// A load failed with one message that starts with the file path and contains every fragment.
+inline ::testing::AssertionResult fails_with(const LoadResult& r,
                                              std::initializer_list<std::string> fragments) {
-  const LoadResult r = load(yaml);
   if (r.ok) return ::testing::AssertionFailure() << "loaded, expected an error";
   if (r.error.rfind(kPath + ":", 0) != 0) {
     return ::testing::AssertionFailure() << "message does not start with the path: " << r.error;
@@ -106,6 +105,12 @@ inline ::testing::AssertionResult fails_with(const std::string& yaml,
     }
   }
   return ::testing::AssertionSuccess() << r.error;
+}
+
+// Loading `yaml` fails that way.
+inline ::testing::AssertionResult fails_with(const std::string& yaml,
+                                             std::initializer_list<std::string> fragments) {
+  return fails_with(load(yaml), fragments);
 }
 
 }  // namespace carril::sim::test
