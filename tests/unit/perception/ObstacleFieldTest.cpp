@@ -1,0 +1,78 @@
+// Lidar input that real drivers produce and that must never crash or fool the firmware: NaN (no
+// return), +inf (beyond range), zero and out-of-limit ranges. Runs with floating-point traps on,
+// so comparing a NaN anywhere would stop the test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "firmware/perception/ObstacleField.hpp"
+
+namespace carril::fw {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// A 9-beam scan from -40 to +40 deg, sensor at the robot centre facing forward.
+std::unique_ptr<hal::LaserScan> scan_of(std::initializer_list<float> ranges) {
+  auto s = std::make_unique<hal::LaserScan>();
+  s->seq = 1;
+  s->angle_min_rad = float(-40.0 * kPi / 180.0);
+  s->angle_increment_rad = float(10.0 * kPi / 180.0);
+  s->range_min_m = 0.05F;
+  s->range_max_m = 10.0F;
+  s->count = static_cast<std::uint16_t>(ranges.size());
+  std::size_t i = 0;
+  for (float r : ranges) s->ranges_m[i++] = r;
+  return s;
+}
+
+TEST(ObstacleFieldTest, InvalidRangesAreSkippedAndCounted) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  // NaN, +inf, -inf, 0, negative, under range_min, over range_max, and two valid returns.
+  auto s = scan_of({kNaN, kInf, -kInf, 0.0F, -1.0F, 0.01F, 12.0F, 1.0F, 2.0F});
+  f.update(*s, Pose2{});
+  EXPECT_TRUE(f.valid());
+  EXPECT_EQ(f.points().size(), 2U);
+  EXPECT_EQ(f.invalid_beams(), 7U);
+  // The two valid beams are at +30 and +40 deg.
+  EXPECT_NEAR(f.points()[0].x(), std::cos(30 * kPi / 180), 1e-6);
+  EXPECT_NEAR(f.points()[1].y(), 2.0 * std::sin(40 * kPi / 180), 1e-6);
+}
+
+TEST(ObstacleFieldTest, AllNaNScanMeansNothingAhead) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  auto s = scan_of({kNaN, kNaN, kNaN, kNaN, kNaN});
+  f.update(*s, Pose2{});
+  EXPECT_TRUE(f.points().empty());
+  EXPECT_EQ(f.ahead_m(Pose2{}, 0.1, 5.0), 5.0);
+  EXPECT_GT(f.clearance_m(Pose2{}), 1e6);
+}
+
+TEST(ObstacleFieldTest, DistancesAreFromTheFootprintNotTheSensor) {
+  // Sensor on the front-right corner, turned 45 deg right (campero's mount): a wall 1 m ahead of
+  // the bumper is 1 m ahead whatever the beam it is seen on.
+  const double mx = 0.45, my = -0.35, myaw = -kPi / 4;
+  ObstacleField f({0.49, 0.39}, mx, my, myaw);
+  auto s = std::make_unique<hal::LaserScan>();
+  s->seq = 1;
+  s->angle_min_rad = float(-3 * kPi / 4);
+  s->angle_increment_rad = float(kPi / 180.0);
+  s->range_min_m = 0.05F;
+  s->range_max_m = 20.0F;
+  s->count = 271;
+  const double wall_x = 0.49 + 1.0;
+  for (int i = 0; i < 271; ++i) {
+    const double a = double(s->angle_min_rad) + i * double(s->angle_increment_rad) + myaw;
+    const double c = std::cos(a);
+    s->ranges_m[std::size_t(i)] = c > 0.05 ? float((wall_x - mx) / c) : kInf;
+  }
+  f.update(*s, Pose2{});
+  EXPECT_NEAR(f.ahead_m(Pose2{}, 0.1, 5.0), 1.0, 1e-3);
+  EXPECT_NEAR(f.clearance_m(Pose2{}), 1.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace carril::fw
