@@ -71,14 +71,14 @@ void Controller::log_state(MissionState from, MissionState to) {
   events_.push(e);
 }
 
-void Controller::raise(Fault f, std::uint16_t code) {
+void Controller::raise(Fault f, std::uint16_t code, MissionState in_state) {
   if (fault_ != Fault::None) return;  // the first fault is the one reported
   fault_ = f;
   ++fault_counts_[std::size_t(f)];
   Event e;
   e.t_ns = frame_->now_ns;
   e.kind = EventKind::Fault;
-  e.from = behavior_.state();
+  e.from = in_state;
   e.to = MissionState::Fault;
   e.fault = f;
   e.code = code;
@@ -89,14 +89,14 @@ void Controller::task_health() {
   const SensorFrame& f = *frame_;
   for (int i = 0; i < f.wheels.count; ++i) {
     if (f.wheels.wheel[i].state == hal::DriveState::Fault) {
-      raise(Fault::DriveFault, static_cast<std::uint16_t>(f.wheels.wheel[i].fault));
+      raise(Fault::DriveFault, static_cast<std::uint16_t>(f.wheels.wheel[i].fault), state());
     }
   }
   // Timeouts count from the first sample; before it, START's init timeout applies.
   if (last_frame_seq_ != 0 && now_s() - last_frame_s_ > cfg_.camera_timeout_s)
-    raise(Fault::CameraTimeout);
+    raise(Fault::CameraTimeout, 0, state());
   if (cfg_.lidar.present && last_scan_seq_ != 0 && now_s() - last_scan_s_ > cfg_.lidar.timeout_s) {
-    raise(Fault::ScannerTimeout);
+    raise(Fault::ScannerTimeout, 0, state());
   }
 }
 
@@ -110,7 +110,7 @@ void Controller::task_perception() {
   last_frame_seq_ = cam->seq;
   last_frame_s_ = now_s();
   if (!detect(*cam)) {
-    raise(Fault::CameraBadFrame);
+    raise(Fault::CameraBadFrame, 0, state());
     return;
   }
   fresh_frame_ = true;
@@ -174,9 +174,10 @@ void Controller::task_behavior() {
     in.odom = odom_.pose();
     in.measured = odom_.twist();
     in.obstacles = obstacles_.valid() ? &obstacles_ : nullptr;
+    const MissionState was = behavior_.state();
     const BehaviorOutput out = behavior_.step(in, period_s_);
     if (out.clear_map) map_.clear();
-    if (out.fault != Fault::None) raise(out.fault);
+    if (out.fault != Fault::None) raise(out.fault, 0, was);
     Twist want = out.twist;
     if (!drives_up) {
       want = {};

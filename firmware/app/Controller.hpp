@@ -78,7 +78,8 @@ class Controller {
   void task_telemetry();
 
   void log_state(MissionState from, MissionState to);
-  void raise(Fault f, std::uint16_t code = 0);
+  // Latches fault `f` (the first one only), which struck in state `in_state`.
+  void raise(Fault f, std::uint16_t code, MissionState in_state);
   double now_s() const { return double(frame_->now_ns) * 1e-9; }
   bool detect(const hal::CameraFrame& frame);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "firmware/app/EventFormat.hpp"
 #include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::sim {
@@ -15,18 +16,7 @@ hal::TimeNs period_ns(double hz) {
 
 std::string format_event(const fw::Event& e) {
   char buf[160];
-  const double t = double(e.t_ns) * 1e-9;
-  if (e.kind == fw::EventKind::Fault) {
-    std::snprintf(buf, sizeof buf, "%9.3f s  FAULT %s (code 0x%04X) in %s: safe stop", t,
-                  fw::fault_name(e.fault), unsigned(e.code), fw::state_name(e.from));
-  } else {
-    if (e.kind == fw::EventKind::Phase) {
-      std::snprintf(buf, sizeof buf, "%9.3f s    %s: %s", t, fw::state_name(e.to), e.phase);
-    } else {
-      std::snprintf(buf, sizeof buf, "%9.3f s  %s -> %s", t, fw::state_name(e.from),
-                    fw::state_name(e.to));
-    }
-  }
+  fw::format_event(e, double(e.t_ns) * 1e-9, buf, sizeof buf);
   return buf;
 }
 }  // namespace

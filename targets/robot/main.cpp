@@ -13,13 +13,13 @@
 #include <memory>
 #include <string_view>
 
+#include "firmware/app/EventFormat.hpp"
 #include "targets/robot/RobotTopology.hpp"
 
 namespace {
 
 using carril::fw::Controller;
 using carril::fw::Event;
-using carril::fw::EventKind;
 using carril::fw::LoopStats;
 using carril::fw::Telemetry;
 
@@ -125,14 +125,9 @@ void print_events(Controller& ctl, carril::hal::TimeNs t0_ns) {
   Event e;
   while (ctl.events().pop(e)) {
     const double t = double(e.t_ns - t0_ns) * 1e-9;
-    if (e.kind == EventKind::Fault) {
-      std::printf("  %9.3f s  FAULT %s (code 0x%04X) in %s: safe stop\n", t,
-                  carril::fw::fault_name(e.fault), unsigned(e.code),
-                  carril::fw::state_name(e.from));
-    } else {
-      std::printf("  %9.3f s  %s -> %s\n", t, carril::fw::state_name(e.from),
-                  carril::fw::state_name(e.to));
-    }
+    char line[160];
+    carril::fw::format_event(e, t, line, sizeof line);
+    std::printf("  %s\n", line);
   }
 }
 
