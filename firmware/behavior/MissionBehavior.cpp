@@ -8,14 +8,14 @@ MissionBehavior::MissionBehavior(const BehaviorConfig& cfg, LineController& line
                                  const BypassPlanner& planner, bool holonomic)
     : cfg_(cfg), line_(line), planner_(planner), holonomic_(holonomic) {}
 
-void MissionBehavior::enter(MissionState s, const char* phase, double t_s) {
+void MissionBehavior::enter(MissionState s, Phase phase, double t_s) {
   state_ = s;
   no_track_since_s_ = -1.0;  // the pid grace period belongs to one stay in FOLLOW
   since_s_ = t_s;
   set_phase(phase);
 }
 
-void MissionBehavior::set_phase(const char* phase) {
+void MissionBehavior::set_phase(Phase phase) {
   if (phase != phase_) {
     phase_ = phase;
     phase_changed_ = true;
@@ -25,7 +25,7 @@ void MissionBehavior::set_phase(const char* phase) {
 const char* MissionBehavior::take_phase_change() {
   if (!phase_changed_) return nullptr;
   phase_changed_ = false;
-  return phase_;
+  return phase_name(phase_);
 }
 
 Twist MissionBehavior::turn_to(double yaw, double target) const {
@@ -73,43 +73,43 @@ BehaviorOutput MissionBehavior::step(const BehaviorInput& in, double dt) {
 
 BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
   BehaviorOutput out;
-  if (phase_ == std::string_view("wait")) {
+  if (phase_ == Phase::Wait) {
     if (in.drives_ready && in.camera_ready && in.scanner_ready) {
-      set_phase("find");
+      set_phase(Phase::Find);
       turned_ = 0.0;
     } else if (in.t_s - since_s_ > cfg_.init_timeout_s) {
       out.fault = !in.drives_ready   ? Fault::DriveEnableTimeout
                   : !in.camera_ready ? Fault::CameraTimeout
                                      : Fault::ScannerTimeout;
-      enter(MissionState::Fault, "stopped", in.t_s);
+      enter(MissionState::Fault, Phase::Stopped, in.t_s);
     }
     return out;
   }
-  if (phase_ == std::string_view("find")) {
+  if (phase_ == Phase::Find) {
     if (in.fresh_frame && in.line_visible) {
       // On the tape already (it runs out of the bottom of the view, roughly ahead): follow it.
       if (std::fabs(in.line_near.y()) < cfg_.start_on_tape_lateral_m &&
           std::fabs(in.line_near_angle) < cfg_.start_on_tape_angle_rad) {
         line_.reset();
-        enter(MissionState::Follow, "track", in.t_s);
+        enter(MissionState::Follow, Phase::Track, in.t_s);
         return out;
       }
       start_target_ = to_world(in.odom, in.line_near);
       align_heading_ = in.odom.yaw + in.line_near_angle;
-      set_phase("approach");
+      set_phase(Phase::Approach);
     } else if (turned_ > cfg_.start_max_turn_rad) {
       out.fault = Fault::LineNotFound;
-      enter(MissionState::Fault, "stopped", in.t_s);
+      enter(MissionState::Fault, Phase::Stopped, in.t_s);
     } else {
       out.twist.wz = cfg_.search_yaw_rate_radps;  // turn on the spot, looking for tape
     }
     return out;
   }
-  if (phase_ == std::string_view("approach")) {
+  if (phase_ == Phase::Approach) {
     // Drive to the nearest tape point that was in view, holding the tape's heading there.
     bool reached = false;
     out.twist = drive_to(in.odom, start_target_, align_heading_, holonomic_, 0.2, reached);
-    if (reached) set_phase("align");
+    if (reached) set_phase(Phase::Align);
     return out;
   }
   // align: face along the tape, then follow it.
@@ -118,7 +118,7 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
     return out;
   }
   line_.reset();
-  enter(MissionState::Follow, "track", in.t_s);
+  enter(MissionState::Follow, Phase::Track, in.t_s);
   return out;
 }
 
@@ -126,7 +126,7 @@ void MissionBehavior::begin_search(const BehaviorInput& in) {
   ++line_lost_;
   search_origin_yaw_ = in.odom.yaw;
   line_.reset();
-  enter(MissionState::Search, "left", in.t_s);
+  enter(MissionState::Search, Phase::Left, in.t_s);
 }
 
 BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
@@ -141,11 +141,11 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
       align_heading_ = in.track.valid ? in.track.tape_heading_odom : in.odom.yaw;
       align_point_ = to_world(in.odom, Vec2(0.0, in.track.valid ? in.track.lateral_m : 0.0));
     }
-    enter(MissionState::Avoid, "stop", in.t_s);
+    enter(MissionState::Avoid, Phase::Stop, in.t_s);
     return out;  // zero twist: brake
   }
   if (in.end_known && (in.end_odom - Vec2(in.odom.x, in.odom.y)).norm() < cfg_.end_approach_m) {
-    enter(MissionState::End, "approach", in.t_s);
+    enter(MissionState::End, Phase::Approach, in.t_s);
     return end(in);
   }
   // Memory is left while there is tape ahead, or while the robot is still turning onto the last
@@ -179,23 +179,23 @@ BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
   if (in.fresh_frame && in.line_visible && in.track.valid) {
     ++line_reacquired_;
     line_.reset();
-    enter(MissionState::Follow, "track", in.t_s);
+    enter(MissionState::Follow, Phase::Track, in.t_s);
     return out;
   }
   // The thesis's search: up to 90 deg left; then 180 deg right; then 90 deg more, heading back.
   const double rel = wrap_angle(in.odom.yaw - search_origin_yaw_);
   const double tol = cfg_.align_tolerance_rad;
-  if (phase_ == std::string_view("left")) {
+  if (phase_ == Phase::Left) {
     if (rel >= kPi / 2 - tol) {
-      set_phase("right");
+      set_phase(Phase::Right);
     } else {
       out.twist.wz = cfg_.search_yaw_rate_radps;
       return out;
     }
   }
-  if (phase_ == std::string_view("right")) {
+  if (phase_ == Phase::Right) {
     if (rel <= -kPi / 2 + tol && rel < 0) {
-      set_phase("back");
+      set_phase(Phase::Back);
     } else {
       out.twist.wz = -cfg_.search_yaw_rate_radps;
       return out;
@@ -204,7 +204,7 @@ BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
   // back: turn right until heading the way the robot came (origin - 180 deg).
   if (std::fabs(wrap_angle(in.odom.yaw - (search_origin_yaw_ + kPi))) < tol) {
     out.fault = Fault::LineNotFound;
-    enter(MissionState::Fault, "stopped", in.t_s);
+    enter(MissionState::Fault, Phase::Stopped, in.t_s);
     return out;
   }
   out.twist.wz = -cfg_.search_yaw_rate_radps;
@@ -213,14 +213,14 @@ BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
 
 BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
   BehaviorOutput out;
-  const char* p = phase_;
-  if (p == std::string_view("stop")) {
+  const Phase p = phase_;
+  if (p == Phase::Stop) {
     const bool still = std::fabs(in.measured.vx) < 0.02 && std::fabs(in.measured.vy) < 0.02 &&
                        std::fabs(in.measured.wz) < 0.05;
-    if (still) set_phase("align");
+    if (still) set_phase(Phase::Align);
     return out;
   }
-  if (p == std::string_view("align")) {
+  if (p == Phase::Align) {
     if (std::fabs(wrap_angle(align_heading_ - in.odom.yaw)) > cfg_.align_tolerance_rad) {
       out.twist = turn_to(in.odom.yaw, align_heading_);
       return out;
@@ -229,26 +229,26 @@ BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
     plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_);
     if (plan_.blocked) {
       out.fault = Fault::PathBlocked;
-      enter(MissionState::Fault, "stopped", in.t_s);
+      enter(MissionState::Fault, Phase::Stopped, in.t_s);
       return out;
     }
     if (!plan_.ok) {  // nothing ahead any more
-      enter(MissionState::Follow, "track", in.t_s);
+      enter(MissionState::Follow, Phase::Track, in.t_s);
       return out;
     }
     waypoint_ = 0;
     blocked_since_s_ = -1.0;
-    set_phase("bypass");
+    set_phase(Phase::Bypass);
     return out;
   }
-  if (p == std::string_view("bypass")) {
+  if (p == Phase::Bypass) {
     if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_);
     // Something right against the body: stop, and give up if it stays.
     if (in.obstacles->clearance_m(in.odom) < cfg_.avoid.emergency_m) {
       if (blocked_since_s_ < 0) blocked_since_s_ = in.t_s;
       if (in.t_s - blocked_since_s_ > cfg_.avoid.blocked_timeout_s) {
         out.fault = Fault::PathBlocked;
-        enter(MissionState::Fault, "stopped", in.t_s);
+        enter(MissionState::Fault, Phase::Stopped, in.t_s);
       }
       return out;
     }
@@ -258,7 +258,7 @@ BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
                          cfg_.avoid.speed_mps, reached);
     if (reached) {
       ++waypoint_;
-      if (waypoint_ >= plan_.waypoints.size()) set_phase("rejoin");
+      if (waypoint_ >= plan_.waypoints.size()) set_phase(Phase::Rejoin);
     }
     return out;
   }
@@ -271,7 +271,7 @@ BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
   ++obstacles_avoided_;
   line_.reset();
   frames_without_line_ = 0;
-  enter(MissionState::Follow, "track", in.t_s);
+  enter(MissionState::Follow, Phase::Track, in.t_s);
   return out;
 }
 
@@ -283,7 +283,7 @@ BehaviorOutput MissionBehavior::end(const BehaviorInput& in) {
   // Stop on the mark: within tolerance, or (differential) once it is beside or behind the centre.
   if (d < cfg_.end_tolerance_m || (!holonomic_ && e.x() <= 0.0 && d < 0.05)) {
     end_done_ = true;
-    set_phase("stopped");
+    set_phase(Phase::Stopped);
     return out;
   }
   const double v = std::fmin(cfg_.end_speed_mps, cfg_.end_gain * d);

@@ -13,6 +13,32 @@
 
 namespace carril::fw {
 
+// Sub-states of the mission states (START: wait, find, approach, align; FOLLOW: track; SEARCH:
+// left, right, back; AVOID: stop, align, bypass, rejoin; END: approach, stopped; FAULT: stopped).
+enum class Phase : std::uint8_t {
+  Wait,
+  Find,
+  Approach,
+  Align,
+  Track,
+  Left,
+  Right,
+  Back,
+  Stop,
+  Bypass,
+  Rejoin,
+  Stopped,
+  Count
+};
+
+inline const char* phase_name(Phase p) {
+  static constexpr const char* kNames[] = {"wait",  "find",   "approach", "align",
+                                           "track", "left",   "right",    "back",
+                                           "stop",  "bypass", "rejoin",   "stopped"};
+  static_assert(sizeof(kNames) / sizeof(kNames[0]) == std::size_t(Phase::Count));
+  return kNames[std::size_t(p)];
+}
+
 struct BehaviorConfig {
   double init_timeout_s = 3.0;         // drives and sensors must be up by then [s]
   double search_yaw_rate_radps = 0.6;  // turning speed while searching [rad/s]
@@ -69,7 +95,7 @@ class MissionBehavior {
   BehaviorOutput step(const BehaviorInput& in, double dt_s);
 
   MissionState state() const { return state_; }
-  const char* phase() const { return phase_; }
+  const char* phase() const { return phase_name(phase_); }
   bool end_done() const { return end_done_; }
   std::uint32_t line_lost_events() const { return line_lost_; }
   std::uint32_t line_reacquired_events() const { return line_reacquired_; }
@@ -79,8 +105,8 @@ class MissionBehavior {
   const char* take_phase_change();
 
  private:
-  void enter(MissionState s, const char* phase, double t_s);
-  void set_phase(const char* phase);
+  void enter(MissionState s, Phase phase, double t_s);
+  void set_phase(Phase phase);
   BehaviorOutput start(const BehaviorInput& in);
   BehaviorOutput follow(const BehaviorInput& in, double dt);
   BehaviorOutput search(const BehaviorInput& in);
@@ -95,7 +121,7 @@ class MissionBehavior {
   const BypassPlanner& planner_;
   bool holonomic_;
   MissionState state_ = MissionState::Start;
-  const char* phase_ = "wait";
+  Phase phase_ = Phase::Wait;
   bool phase_changed_ = false;
   double since_s_ = 0.0;
   bool started_ = false;
