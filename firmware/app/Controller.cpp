@@ -109,7 +109,7 @@ void Controller::task_perception() {
   if (cam == nullptr || cam->seq == last_frame_seq_) return;
   last_frame_seq_ = cam->seq;
   last_frame_s_ = now_s();
-  if (!detect(*cam)) {
+  if (!detector_.detect(*cam, det_)) {
     raise(Fault::CameraBadFrame, 0, state());
     return;
   }
@@ -129,10 +129,6 @@ void Controller::task_perception() {
     end_odom_ = to_world(pose, ok ? Vec2(0.5 * (near + far)) : det_.end_floor);
     end_known_ = true;
   }
-}
-
-bool Controller::detect(const hal::CameraFrame& frame) {
-  return detector_.detect(frame, det_);
 }
 
 void Controller::task_obstacles() {

@@ -81,7 +81,6 @@ class Controller {
   // Latches fault `f` (the first one only), which struck in state `in_state`.
   void raise(Fault f, std::uint16_t code, MissionState in_state);
   double now_s() const { return double(frame_->now_ns) * 1e-9; }
-  bool detect(const hal::CameraFrame& frame);
 
   FirmwareConfig cfg_;
   const hal::Clock& clock_;

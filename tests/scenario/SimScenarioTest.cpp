@@ -91,22 +91,6 @@ TEST(DeterminismTest, DifferentSeedGivesADifferentTrajectory) {
   EXPECT_FALSE(same_rows(a.rows(), b.rows()));
 }
 
-// Runs `seconds` of the square, then injects a fault through `inject` and runs 3 s more.
-template <typename Inject>
-RunSummary run_with_fault(double seconds, Inject inject, SimRun*& out_run, Scenario& s) {
-  s = test::load_repo_scenario("square");
-  static std::unique_ptr<SimRun> keep;
-  keep = std::make_unique<SimRun>(s, 1);
-  SimRun& run = *keep;
-  out_run = &run;
-  while (run.sim_time_s() < seconds && run.step()) {
-  }
-  inject(run.topology());
-  while (run.step()) {
-  }
-  return run.summary(1.0);
-}
-
 void expect_safe_stop(SimRun& run, const RunSummary& r, const char* fault) {
   EXPECT_EQ(r.result, "fault");
   EXPECT_EQ(r.fault, fault);
@@ -123,39 +107,42 @@ void expect_safe_stop(SimRun& run, const RunSummary& r, const char* fault) {
   EXPECT_EQ(total, 1U);
 }
 
+// Runs 5 s of the square, injects a fault through `inject`, runs on until the run ends, and checks
+// the outcome is a counted, reported safe stop with `fault`.
+template <typename Inject>
+void expect_safe_stop_after(Inject inject, const char* fault) {
+  const Scenario s = test::load_repo_scenario("square");
+  SimRun run(s, 1);
+  while (run.sim_time_s() < 5.0 && run.step()) {
+  }
+  inject(run.topology());
+  while (run.step()) {
+  }
+  const RunSummary r = run.summary(1.0);
+  expect_safe_stop(run, r, fault);
+}
+
 TEST(FaultInjectionTest, CameraGoingSilentStopsTheRobot) {
-  Scenario s;
-  SimRun* run = nullptr;
-  const RunSummary r = run_with_fault(
-      5.0, [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Silent); }, run, s);
-  expect_safe_stop(*run, r, "camera_timeout");
-  const auto log = run->take_log();
-  (void)log;
+  expect_safe_stop_after([](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Silent); },
+                         "camera_timeout");
 }
 
 TEST(FaultInjectionTest, WrongCameraFrameSizeStopsTheRobot) {
-  Scenario s;
-  SimRun* run = nullptr;
-  const RunSummary r = run_with_fault(
-      5.0, [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::WrongSize); }, run, s);
-  expect_safe_stop(*run, r, "camera_bad_frame");
+  expect_safe_stop_after(
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::WrongSize); },
+      "camera_bad_frame");
 }
 
 TEST(FaultInjectionTest, LidarGoingSilentStopsTheRobot) {
-  Scenario s;
-  SimRun* run = nullptr;
-  const RunSummary r = run_with_fault(
-      5.0, [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); }, run, s);
-  expect_safe_stop(*run, r, "scanner_timeout");
+  expect_safe_stop_after(
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); },
+      "scanner_timeout");
 }
 
 TEST(FaultInjectionTest, DriveFaultStopsTheRobot) {
-  Scenario s;
-  SimRun* run = nullptr;
-  const RunSummary r = run_with_fault(
-      5.0, [](SimTopology& t) { t.drives.inject_fault(2, hal::DriveFault::HeartbeatLost); }, run,
-      s);
-  expect_safe_stop(*run, r, "drive_fault");
+  expect_safe_stop_after(
+      [](SimTopology& t) { t.drives.inject_fault(2, hal::DriveFault::HeartbeatLost); },
+      "drive_fault");
 }
 
 }  // namespace
