@@ -2,17 +2,14 @@
 
 #include <bit>
 
+#include "firmware/perception/BitRuns.hpp"
+
 namespace carril::fw {
 
 namespace {
 
-constexpr std::uint64_t kAll = ~std::uint64_t{0};
-
-// Bits of word k that are cells of a `width`-wide row.
-std::uint64_t valid_bits(int width, int k) {
-  const int rem = width - 64 * k;
-  return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
-}
+using bits::kAll;
+using bits::valid_bits;
 
 // 3x3 min (erode) or max (dilate) filter, separable: along rows into tmp, then across rows.
 // Outside the image is `fill`: set for erosion, clear for dilation.
@@ -95,38 +92,21 @@ bool RunLabeler::label(const BitImage& m) {
     const std::uint64_t* r = m.row(y);
     const int begin = n_runs_;
     row_start_[y] = begin;
-    bool in = false;
-    int start = 0;
-    for (int k = 0; k < m.stride; ++k) {
-      const std::uint64_t w = r[k];
-      int pos = 0;
-      for (;;) {
-        const std::uint64_t look = (in ? ~w : w) & (kAll << pos);
-        if (look == 0) break;
-        pos = std::countr_zero(look);
-        if (!in) {
-          start = 64 * k + pos;
-          in = true;
-          continue;
-        }
-        in = false;
-        if (n_runs_ == max_runs_) {
-          n_runs_ = 0;
-          return false;
-        }
-        runs_[n_runs_] = {std::int16_t(start), std::int16_t(64 * k + pos - 1), std::int16_t(y)};
-        parent_[n_runs_] = n_runs_;
-        ++n_runs_;
-      }
-    }
-    if (in) {  // a run reaching the last cell of a row whose width is a multiple of 64
-      if (n_runs_ == max_runs_) {
-        n_runs_ = 0;
-        return false;
-      }
-      runs_[n_runs_] = {std::int16_t(start), std::int16_t(m.width - 1), std::int16_t(y)};
+    // Stores a run; false when the run storage is full (the frame is then reported saturated).
+    const auto add = [&](int x0, int x1) {
+      if (n_runs_ == max_runs_) return false;
+      runs_[n_runs_] = {std::int16_t(x0), std::int16_t(x1), std::int16_t(y)};
       parent_[n_runs_] = n_runs_;
       ++n_runs_;
+      return true;
+    };
+    bits::RunScanner scan;
+    bool ok = true;
+    for (int k = 0; k < m.stride && ok; ++k) ok = scan.word(r[k], k, add);
+    // A run reaching the last cell of a row whose width is a multiple of 64 ends there.
+    if (!ok || !scan.finish(m.width - 1, add)) {
+      n_runs_ = 0;
+      return false;
     }
     // 8-connectivity: runs touch when they overlap or meet at a corner.
     int j = prev_begin;

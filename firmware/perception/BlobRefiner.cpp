@@ -2,6 +2,7 @@
 
 #include <bit>
 
+#include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
 #include "hal/Types.hpp"
 
@@ -9,13 +10,9 @@ namespace carril::fw {
 
 namespace {
 
-constexpr std::uint64_t kAll = ~std::uint64_t{0};
+using bits::kAll;
+using bits::valid_bits;
 constexpr int kMaxWords = (hal::kMaxImageWidth + 63) / 64;
-
-std::uint64_t valid_bits(int width, int k) {
-  const int rem = width - 64 * k;
-  return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
-}
 
 // 3-wide AND (erode) or OR (dilate) along a row of s words; outside the row counts as `fill`
 // (`last` marks the valid bits of the last word).
@@ -296,8 +293,15 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
     int band_i = (vb1 - v) * out.bands / (vb1 - vb0 + 1);
     band_i = band_i < 0 ? 0 : (band_i >= out.bands ? out.bands - 1 : band_i);
     std::int64_t bc = 0, bsu = 0, bsuu = 0, rn = 0, rsu = 0, rsuu = 0;
-    bool in = false;
-    int start = 0;
+    const auto add_run = [&](std::int64_t a, std::int64_t b) {
+      rn += b - a + 1;
+      rsu += sum1(a, b);
+      rsuu += sq_prefix(b) - sq_prefix(a - 1);
+      out.u_min = int(a) < out.u_min ? int(a) : out.u_min;
+      out.u_max = int(b) > out.u_max ? int(b) : out.u_max;
+      return true;
+    };
+    bits::RunScanner scan;
     for (int k = k0; k <= k1; ++k) {
       const std::uint64_t w = row[k];
       const std::uint64_t left = (w << 1) | (k > k0 ? row[k - 1] >> 63 : 0);
@@ -309,32 +313,10 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
         bsu += u;
         bsuu += u * u;
       }
-      for (int pos = 0;;) {  // runs of set bits
-        const std::uint64_t look = (in ? ~w : w) & (kAll << pos);
-        if (look == 0) break;
-        pos = std::countr_zero(look);
-        if (!in) {
-          start = 64 * k + pos;
-          in = true;
-          continue;
-        }
-        in = false;
-        const std::int64_t a = start, b = 64 * k + pos - 1;
-        rn += b - a + 1;
-        rsu += sum1(a, b);
-        rsuu += sq_prefix(b) - sq_prefix(a - 1);
-        out.u_min = int(a) < out.u_min ? int(a) : out.u_min;
-        out.u_max = int(b) > out.u_max ? int(b) : out.u_max;
-      }
+      scan.word(w, k, add_run);
     }
-    if (in) {  // a run to the end of the window's last word
-      const std::int64_t a = start, b = 64 * k1 + 63 < w_ ? 64 * k1 + 63 : w_ - 1;
-      rn += b - a + 1;
-      rsu += sum1(a, b);
-      rsuu += sq_prefix(b) - sq_prefix(a - 1);
-      out.u_min = int(a) < out.u_min ? int(a) : out.u_min;
-      out.u_max = int(b);
-    }
+    // A run to the end of the window's last word.
+    scan.finish(64 * k1 + 63 < w_ ? 64 * k1 + 63 : w_ - 1, add_run);
     if (rn == 0) continue;
     const std::int64_t vv = v;
     out.v_min = v < out.v_min ? v : out.v_min;

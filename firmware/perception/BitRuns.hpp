@@ -1,0 +1,50 @@
+#pragma once
+// Bit-packed mask rows (64 cells per word, bit i of word k is cell 64k + i): the helpers the
+// blob labeller and refiner share.
+#include <bit>
+#include <cstdint>
+
+namespace carril::fw::bits {
+
+constexpr std::uint64_t kAll = ~std::uint64_t{0};
+
+// Bits of word k that are cells of a `width`-wide row.
+inline std::uint64_t valid_bits(int width, int k) {
+  const int rem = width - 64 * k;
+  return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
+}
+
+// Finds runs of set cells along a row fed one word at a time, left to right.
+class RunScanner {
+ public:
+  // Word k of the row: calls on_run(first, last) for each run that ends inside it. on_run returns
+  // false to stop; word() then returns false too.
+  template <typename OnRun>
+  bool word(std::uint64_t w, int k, OnRun&& on_run) {
+    for (int pos = 0;;) {
+      const std::uint64_t look = (in_ ? ~w : w) & (kAll << pos);
+      if (look == 0) return true;
+      pos = std::countr_zero(look);
+      if (!in_) {
+        start_ = 64 * k + pos;
+        in_ = true;
+        continue;
+      }
+      in_ = false;
+      if (!on_run(start_, 64 * k + pos - 1)) return false;
+    }
+  }
+  // End of the row at cell `last`: a run still open ends there.
+  template <typename OnRun>
+  bool finish(int last, OnRun&& on_run) {
+    if (!in_) return true;
+    in_ = false;
+    return on_run(start_, last);
+  }
+
+ private:
+  bool in_ = false;
+  int start_ = 0;
+};
+
+}  // namespace carril::fw::bits
