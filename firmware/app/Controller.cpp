@@ -170,6 +170,7 @@ void Controller::task_behavior() {
     in.odom = odom_.pose();
     in.measured = odom_.twist();
     in.obstacles = obstacles_.valid() ? &obstacles_ : nullptr;
+    in.tape = &map_;
     const MissionState was = behavior_.state();
     const BehaviorOutput out = behavior_.step(in, period_s_);
     if (out.clear_map) map_.clear();
@@ -218,6 +219,7 @@ void Controller::refresh_telemetry() {
   t.fault_counts = fault_counts_;
   t.line_lost_events = behavior_.line_lost_events();
   t.line_reacquired_events = behavior_.line_reacquired_events();
+  t.reversed_sightings = behavior_.reversed_sightings();
   t.obstacles_avoided = behavior_.obstacles_avoided();
   t.invalid_beams = obstacles_.invalid_beams();
   t.frames_processed = frames_processed_;

@@ -39,6 +39,7 @@ struct Telemetry {
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts{};
   std::uint32_t line_lost_events = 0;
   std::uint32_t line_reacquired_events = 0;
+  std::uint32_t reversed_sightings = 0;  // tape seen backwards in SEARCH, and not followed
   std::uint32_t obstacles_avoided = 0;
   std::uint64_t invalid_beams = 0;  // NaN, inf, zero or out-of-limits lidar ranges seen
   std::uint64_t frames_processed = 0;

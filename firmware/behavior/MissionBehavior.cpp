@@ -125,6 +125,11 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
 void MissionBehavior::begin_search(const BehaviorInput& in) {
   ++line_lost_;
   search_origin_yaw_ = in.odom.yaw;
+  // Kept for the search: the map itself is cleared, then refilled by whatever comes into view.
+  lost_path_.clear();
+  if (in.tape != nullptr) {
+    for (const Vec2& p : in.tape->points()) lost_path_.push_back(p);
+  }
   line_.reset();
   enter(MissionState::Search, Phase::Left, in.t_s);
 }
@@ -169,14 +174,56 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
     return out;
   }
   no_track_since_s_ = -1.0;
+  if (end_within_reach(in)) {
+    enter(MissionState::End, Phase::Approach, in.t_s);
+    return end(in);
+  }
   begin_search(in);
   out.clear_map = true;
   return out;
 }
 
+bool MissionBehavior::sighting_runs_backwards(const BehaviorInput& in) const {
+  if (lost_path_.size() < 2) return false;
+  // The nearest visible tape point and its direction (near to far), odometry frame.
+  const Vec2 p = to_world(in.odom, in.line_near);
+  const Vec2 dir(std::cos(in.odom.yaw + in.line_near_angle),
+                 std::sin(in.odom.yaw + in.line_near_angle));
+  double best = cfg_.reacquire_on_path_m * cfg_.reacquire_on_path_m;
+  bool on_path = false;
+  Vec2 path_dir = Vec2::Zero();
+  for (std::size_t i = 0; i + 1 < lost_path_.size(); ++i) {
+    const Vec2 a = lost_path_[i], d = lost_path_[i + 1] - a;
+    const double len2 = d.squaredNorm();
+    if (len2 < 1e-12) continue;
+    const double u = clampd((p - a).dot(d) / len2, 0.0, 1.0);
+    const double dist2 = (a + u * d - p).squaredNorm();
+    if (dist2 <= best) {
+      best = dist2;
+      on_path = true;
+      path_dir = d;
+    }
+  }
+  // New tape (beyond what was remembered) has no direction to disagree with.
+  return on_path && dir.dot(path_dir) < 0.0;
+}
+
+bool MissionBehavior::end_within_reach(const BehaviorInput& in) const {
+  return in.end_known && (in.end_odom - Vec2(in.odom.x, in.odom.y)).norm() < cfg_.end_reach_m;
+}
+
 BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
   BehaviorOutput out;
-  if (in.fresh_frame && in.line_visible && in.track.valid) {
+  if (end_within_reach(in)) {
+    enter(MissionState::End, Phase::Approach, in.t_s);
+    return end(in);
+  }
+  if (in.fresh_frame && in.line_visible && in.track.valid && sighting_runs_backwards(in)) {
+    // The tape already travelled, seen from the far side after turning round: following it
+    // would drive the course backwards. Keep searching.
+    ++reversed_sightings_;
+    out.clear_map = true;
+  } else if (in.fresh_frame && in.line_visible && in.track.valid) {
     ++line_reacquired_;
     line_.reset();
     enter(MissionState::Follow, Phase::Track, in.t_s);

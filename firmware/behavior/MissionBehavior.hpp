@@ -56,6 +56,12 @@ struct BehaviorConfig {
   double align_tolerance_rad = 0.04;      // heading alignment done within this [rad]
   double start_on_tape_lateral_m = 0.15;  // visible tape this close to the centre line ...
   double start_on_tape_angle_rad = 0.5;   // ... and this well aligned: already on the tape
+  // Tape seen again within this distance of the tape remembered when it was lost is that same
+  // tape, and must run the way the robot was travelling along it [m].
+  double reacquire_on_path_m = 0.3;
+  // A known end mark this close when the tape runs out is where the tape ends: drive onto it
+  // rather than search (a short tail after a corner may never fill the camera's view) [m].
+  double end_reach_m = 2.0;
   AvoidConfig avoid;
 };
 
@@ -79,6 +85,7 @@ struct BehaviorInput {
   Pose2 odom;
   Twist measured;  // from the wheel encoders
   const ObstacleField* obstacles = nullptr;
+  const TapeMap* tape = nullptr;  // the remembered tape, in path order (nullptr: none kept)
 };
 
 struct BehaviorOutput {
@@ -99,6 +106,8 @@ class MissionBehavior {
   bool end_done() const { return end_done_; }
   std::uint32_t line_lost_events() const { return line_lost_; }
   std::uint32_t line_reacquired_events() const { return line_reacquired_; }
+  // Sightings rejected in SEARCH because they ran against the remembered direction of travel.
+  std::uint32_t reversed_sightings() const { return reversed_sightings_; }
   std::uint32_t obstacles_avoided() const { return obstacles_avoided_; }
   const BypassPlan& bypass() const { return plan_; }
   // Phase changes since the last call (a new phase name), for the event log.
@@ -114,6 +123,10 @@ class MissionBehavior {
   BehaviorOutput end(const BehaviorInput& in);
   bool obstacle_ahead(const BehaviorInput& in) const;
   void begin_search(const BehaviorInput& in);
+  // The tape in view lies on the tape remembered at the loss but points back along it.
+  bool sighting_runs_backwards(const BehaviorInput& in) const;
+  // The end mark is known and close enough to be where the tape ends.
+  bool end_within_reach(const BehaviorInput& in) const;
   Twist turn_to(double yaw, double target) const;
 
   BehaviorConfig cfg_;
@@ -131,6 +144,7 @@ class MissionBehavior {
   double no_track_since_s_ = -1.0;
   double turned_ = 0.0, last_yaw_ = 0.0;  // accumulated turning in START / SEARCH [rad]
   double search_origin_yaw_ = 0.0;
+  StaticVector<Vec2, TapeMap::kMaxPoints> lost_path_;  // remembered tape at the loss, odometry
   double align_heading_ = 0.0;
   Vec2 align_point_ = Vec2::Zero();
   Vec2 start_target_ = Vec2::Zero();  // odometry frame
@@ -139,6 +153,7 @@ class MissionBehavior {
   double blocked_since_s_ = -1.0;
   bool end_done_ = false;
   std::uint32_t line_lost_ = 0, line_reacquired_ = 0, obstacles_avoided_ = 0;
+  std::uint32_t reversed_sightings_ = 0;
 };
 
 }  // namespace carril::fw

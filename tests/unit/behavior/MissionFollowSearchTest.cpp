@@ -17,6 +17,7 @@ using test::expect_still;
 using test::kDt;
 using test::Phases;
 using test::Sim;
+using test::StraightTape;
 
 // ---------------------------------------------------------------------------------------------
 // FOLLOW
@@ -236,6 +237,119 @@ TEST_P(MissionBehaviorReacquire, FreshFrameWithTapeReturnsToFollow) {
 
 INSTANTIATE_TEST_SUITE_P(Phase, MissionBehaviorReacquire, testing::Values("left", "right", "back"),
                          [](const auto& i) { return std::string(i.param); });
+
+// The tape lost along +x from the origin, remembered in path order (direction `dir` = +1) or
+// against it (-1, a control: the same sighting then agrees with the remembered direction).
+TapeMap remembered_tape(double dir) {
+  TapeMap m;
+  Vec2 pts[20];
+  // World x from -1.9 to 0 (dir +1) or from 0 to -1.9 (dir -1), in that order.
+  for (int i = 0; i < 20; ++i) pts[i] = Vec2(dir > 0 ? -1.9 + 0.1 * i : -2.0 + 0.1 * i, 0.0);
+  m.add(dir > 0 ? Pose2{0.0, 0.0, 0.0} : Pose2{-2.0, 0.0, kPi}, pts, 20);
+  EXPECT_EQ(m.size(), 20U);
+  return m;
+}
+
+// After losing the tape heading +x, the robot turns round in SEARCH; facing back (-x) it sees
+// the tape it came along, running away from it: near to far is -x, against the remembered
+// direction of travel. Returns the Sim after the search ended (or 6000 ticks).
+Sim& search_seeing_tape_behind(Sim& s, const TapeMap& map) {
+  lose_tape(s, 0.0);
+  s.script = [&s, &map](BehaviorInput& in) {
+    in.tape = &map;
+    // The old tape is in view while the robot faces within 60 deg of -x.
+    if (in.fresh_frame && std::cos(in.odom.yaw - kPi) > 0.5) {
+      in.line_visible = true;
+      const Vec2 near_w(in.odom.x - 0.8, 0.0);
+      in.line_near = to_robot(in.odom, near_w);
+      in.line_near_angle = wrap_angle(kPi - in.odom.yaw);
+      in.track = StraightTape{Vec2::Zero(), kPi}.track(in.odom, 0.5);
+    }
+  };
+  s.run_until([&] { return s.mb.state() != MissionState::Search; }, 6000);
+  return s;
+}
+
+TEST(MissionBehaviorSearchDirection, TapeAlreadyTravelledSeenBackwardsIsNotFollowed) {
+  Sim s(true);
+  const TapeMap map = remembered_tape(+1.0);
+  // The map is handed over when the search begins, so it must be in the input from the start.
+  s.script = [&map](BehaviorInput& in) { in.tape = &map; };
+  search_seeing_tape_behind(s, map);
+  EXPECT_EQ(s.mb.state(), MissionState::Fault);
+  ASSERT_EQ(s.faults.size(), 1U);
+  EXPECT_EQ(s.faults[0], Fault::LineNotFound);
+  EXPECT_GT(s.mb.reversed_sightings(), 0U);
+  EXPECT_EQ(s.mb.line_reacquired_events(), 0U);
+}
+
+TEST(MissionBehaviorSearchDirection, SameSightingAgreeingWithTheMemoryIsFollowed) {
+  // Control: remembered the other way round, the same sighting runs the way of travel.
+  Sim s(true);
+  const TapeMap map = remembered_tape(-1.0);
+  s.script = [&map](BehaviorInput& in) { in.tape = &map; };
+  search_seeing_tape_behind(s, map);
+  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.reversed_sightings(), 0U);
+  EXPECT_EQ(s.mb.line_reacquired_events(), 1U);
+}
+
+TEST(MissionBehaviorSearchDirection, NewTapeOffTheRememberedPathIsFollowed) {
+  // A sighting more than reacquire_on_path_m from the remembered tape is new tape, whatever way
+  // it runs (a corner's next leg).
+  Sim s(true);
+  TapeMap map = remembered_tape(+1.0);
+  s.script = [&map](BehaviorInput& in) { in.tape = &map; };
+  lose_tape(s, 0.0);
+  s.script = [&map](BehaviorInput& in) {
+    in.tape = &map;
+    if (in.fresh_frame && std::cos(in.odom.yaw - kPi / 2) > 0.9) {
+      in.line_visible = true;
+      in.line_near = to_robot(in.odom, Vec2(in.odom.x, in.odom.y + 0.8));
+      in.line_near_angle = wrap_angle(kPi / 2 - in.odom.yaw);
+      in.track = StraightTape{Vec2(in.odom.x, 0.0), kPi / 2}.track(in.odom, 0.5);
+    }
+  };
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Search; }, 6000));
+  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.reversed_sightings(), 0U);
+}
+
+TEST(MissionBehaviorEndReach, TapeRunningOutNearAKnownEndMarkGoesToEnd) {
+  // A short tail after a corner: the tape runs out of view 1.5 m before the mark it ends at.
+  Sim s(false);
+  s.start_on_tape();
+  s.end_known = true;
+  s.end_odom = Vec2(s.pose.x + 1.5, 0.0);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Follow; }, 100));
+  EXPECT_EQ(s.mb.state(), MissionState::End);
+  EXPECT_EQ(s.mb.line_lost_events(), 0U);
+}
+
+TEST(MissionBehaviorEndReach, AFarEndMarkDoesNotStopTheSearch) {
+  Sim s(false);
+  s.start_on_tape();
+  s.end_known = true;
+  s.end_odom = Vec2(s.pose.x + s.cfg.end_reach_m + 0.5, 0.0);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Follow; }, 100));
+  EXPECT_EQ(s.mb.state(), MissionState::Search);
+}
+
+TEST(MissionBehaviorEndReach, EndMarkComingIntoViewDuringTheSearchEndsIt) {
+  Sim s(false);
+  lose_tape(s, 0.0);
+  ASSERT_TRUE(s.run_until_phase("right", 2000));
+  s.end_known = true;
+  s.end_odom = Vec2(s.pose.x + 0.5, s.pose.y - 1.0);
+  s.step();
+  EXPECT_EQ(s.mb.state(), MissionState::End);
+  ASSERT_TRUE(s.run_until([&] { return s.mb.end_done(); }, 3000));
+  EXPECT_LT((s.end_odom - Vec2(s.pose.x, s.pose.y)).norm(), 0.05);
+}
 
 }  // namespace
 }  // namespace carril::fw
