@@ -23,6 +23,9 @@ Controller::Controller(const FirmwareConfig& cfg, const hal::Clock& clock)
       detector_(cam_, cfg.detector),
       odom_(kin_),
       obstacles_(footprint_of(cfg), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad),
+      scan_health_(cfg.health.scan),
+      frame_health_(cfg.health.frame),
+      imu_health_(cfg.health.imu),
       line_(cfg.strategy, kin_.holonomic()),
       planner_(cfg.behavior.avoid, footprint_of(cfg)),
       behavior_(cfg.behavior, line_, planner_, kin_.holonomic()),
@@ -98,6 +101,18 @@ void Controller::task_health() {
   if (cfg_.lidar.present && last_scan_seq_ != 0 && now_s() - last_scan_s_ > cfg_.lidar.timeout_s) {
     raise(Fault::ScannerTimeout, 0, state());
   }
+  if (cfg_.imu_present) {
+    switch (imu_health_.add(f.imu, now_s(), odom_.twist().wz)) {
+      case ImuVerdict::OutOfRange:
+        raise(Fault::ImuOutOfRange, 0, state());
+        break;
+      case ImuVerdict::Frozen:
+        raise(Fault::ImuFrozen, 0, state());
+        break;
+      case ImuVerdict::Ok:
+        break;
+    }
+  }
 }
 
 void Controller::task_odometry() {
@@ -112,6 +127,16 @@ void Controller::task_perception() {
   if (!detector_.detect(*cam, det_)) {
     raise(Fault::CameraBadFrame, 0, state());
     return;
+  }
+  switch (frame_health_.add(*cam, odom_.pose())) {
+    case FrameVerdict::Blank:
+      raise(Fault::CameraBlank, 0, state());
+      return;
+    case FrameVerdict::Frozen:
+      raise(Fault::CameraFrozen, 0, state());
+      return;
+    case FrameVerdict::Ok:
+      break;
   }
   fresh_frame_ = true;
   ++frames_processed_;
@@ -136,6 +161,7 @@ void Controller::task_obstacles() {
   if (scan == nullptr || scan->seq == last_scan_seq_) return;
   last_scan_seq_ = scan->seq;
   last_scan_s_ = now_s();
+  if (!scan_health_.add(*scan)) raise(Fault::ScannerBlind, 0, state());
   obstacles_.update(*scan, odom_.pose());
   fresh_scan_ = true;
 }
@@ -222,6 +248,8 @@ void Controller::refresh_telemetry() {
   t.reversed_sightings = behavior_.reversed_sightings();
   t.obstacles_avoided = behavior_.obstacles_avoided();
   t.invalid_beams = obstacles_.invalid_beams();
+  t.scan_valid_fraction = scan_health_.valid_fraction();
+  t.frame_spread = frame_health_.last_spread();
   t.frames_processed = frames_processed_;
   t.odom = odom_.pose();
   t.end_done = behavior_.end_done();

@@ -17,6 +17,7 @@
 #include "firmware/core/RingBuffer.hpp"
 #include "firmware/core/TaskTable.hpp"
 #include "firmware/estimation/Odometry.hpp"
+#include "firmware/health/SensorHealth.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/perception/CameraModel.hpp"
 #include "firmware/perception/LineDetector.hpp"
@@ -41,7 +42,9 @@ struct Telemetry {
   std::uint32_t line_reacquired_events = 0;
   std::uint32_t reversed_sightings = 0;  // tape seen backwards in SEARCH, and not followed
   std::uint32_t obstacles_avoided = 0;
-  std::uint64_t invalid_beams = 0;  // NaN, inf, zero or out-of-limits lidar ranges seen
+  std::uint64_t invalid_beams = 0;   // NaN, inf, zero or out-of-limits lidar ranges seen
+  double scan_valid_fraction = 1.0;  // valid beams over the lidar health window [0..1]
+  int frame_spread = 0;              // colour spread of the last frame (0: one flat colour)
   std::uint64_t frames_processed = 0;
   Pose2 odom;
   bool end_done = false;  // stopped on the end mark
@@ -92,6 +95,9 @@ class Controller {
   Odometry odom_;
   TapeMap map_;
   ObstacleField obstacles_;
+  ScanHealth scan_health_;
+  FrameHealth frame_health_;
+  ImuHealth imu_health_;
   LineController line_;
   BypassPlanner planner_;
   MissionBehavior behavior_;

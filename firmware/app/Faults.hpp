@@ -13,6 +13,11 @@ enum class Fault : std::uint8_t {
   DriveEnableTimeout,  // drives did not reach Operation enabled in time
   LineNotFound,        // the search found no tape
   PathBlocked,         // an obstacle on the tape with no room to pass either side
+  ScannerBlind,        // lidar scans keep coming, but too few beams are valid (health.scan)
+  CameraBlank,         // camera frames keep coming, all one colour (health.frame)
+  CameraFrozen,        // camera frames keep coming, the same image while the robot moves
+  ImuOutOfRange,       // IMU reads NaN, inf or what the robot cannot do (health.imu)
+  ImuFrozen,           // IMU sample no longer changes (same stamp, or same values while turning)
   Count,
 };
 
@@ -34,6 +39,16 @@ inline const char* fault_name(Fault f) {
       return "line_not_found";
     case Fault::PathBlocked:
       return "path_blocked";
+    case Fault::ScannerBlind:
+      return "scanner_blind";
+    case Fault::CameraBlank:
+      return "camera_blank";
+    case Fault::CameraFrozen:
+      return "camera_frozen";
+    case Fault::ImuOutOfRange:
+      return "imu_out_of_range";
+    case Fault::ImuFrozen:
+      return "imu_frozen";
     case Fault::Count:
       break;
   }

@@ -2,6 +2,8 @@
 
 #include <cassert>
 #include <chrono>
+#include <cstring>
+#include <limits>
 
 namespace carril::hal {
 
@@ -11,7 +13,8 @@ TimeNs SimClock::cpu_now_ns() const {
       .count();
 }
 
-SimCamera::SimCamera() : frame_(std::make_unique<CameraFrame>()) {}
+SimCamera::SimCamera()
+    : frame_(std::make_unique<CameraFrame>()), frozen_(std::make_unique<CameraFrame>()) {}
 
 const CameraFrame* SimCamera::latest() {
   if (seq_ == 0 || fault_ == SimSensorFault::Silent) return nullptr;
@@ -22,11 +25,22 @@ void SimCamera::publish(TimeNs stamp_ns) {
   if (fault_ == SimSensorFault::Silent) return;
   frame_->stamp_ns = stamp_ns;
   frame_->seq = ++seq_;
+  const std::size_t bytes = std::size_t(frame_->width) * frame_->height * 3;
   if (fault_ == SimSensorFault::WrongSize) {
     // Half the configured size, same buffer: what a misconfigured capture driver delivers.
     frame_->width = static_cast<std::uint16_t>(frame_->width / 2);
     frame_->height = static_cast<std::uint16_t>(frame_->height / 2);
+  } else if (fault_ == SimSensorFault::Blank) {
+    std::memset(frame_->bgr.data(), 0, bytes);  // black: a lens cap
+  } else if (fault_ == SimSensorFault::Frozen) {
+    // The first frozen frame is the last good image; every later one repeats it.
+    if (!frozen_taken_) {
+      std::memcpy(frozen_->bgr.data(), frame_->bgr.data(), bytes);
+      frozen_taken_ = true;
+    }
+    std::memcpy(frame_->bgr.data(), frozen_->bgr.data(), bytes);
   }
+  if (fault_ != SimSensorFault::Frozen) frozen_taken_ = false;
 }
 
 SimRangeScanner::SimRangeScanner() : scan_(std::make_unique<LaserScan>()) {}
@@ -40,6 +54,38 @@ void SimRangeScanner::publish(TimeNs stamp_ns) {
   if (fault_ == SimSensorFault::Silent) return;
   scan_->stamp_ns = stamp_ns;
   scan_->seq = ++seq_;
+  float garbage = 0.0F;
+  switch (fault_) {
+    case SimSensorFault::NanRanges:
+      garbage = std::numeric_limits<float>::quiet_NaN();
+      break;
+    case SimSensorFault::ZeroRanges:
+      garbage = 0.0F;
+      break;
+    case SimSensorFault::OutOfLimitRanges:
+      garbage = 2.0F * scan_->range_max_m + 1.0F;
+      break;
+    default:
+      return;
+  }
+  for (int i = 0; i < scan_->count && i < kMaxScanBeams; ++i)
+    scan_->ranges_m[std::size_t(i)] = garbage;
+}
+
+void SimImu::publish(const ImuSample& s) {
+  switch (fault_) {
+    case SimSensorFault::Frozen:
+      if (!sample_.valid) sample_ = s;  // nothing to repeat yet
+      return;
+    case SimSensorFault::OutOfRange:
+      sample_ = s;
+      sample_.roll_rad = std::numeric_limits<float>::quiet_NaN();
+      sample_.yaw_rate_radps = 1000.0F;
+      return;
+    default:
+      sample_ = s;
+      return;
+  }
 }
 
 SimWheelDrives::SimWheelDrives(int count) : count_(count) {

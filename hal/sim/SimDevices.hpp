@@ -27,10 +27,18 @@ class SimClock final : public Clock {
   TimeNs now_ns_ = 0;
 };
 
+// Faults a simulated sensor can be given. All but Silent keep the device publishing on time,
+// so only the firmware's health rules (firmware/health) can tell.
 enum class SimSensorFault : std::uint8_t {
   None,
-  Silent,     // the device stops delivering (unplugged cable, dead driver)
-  WrongSize,  // camera only: frames arrive with a size the firmware was not configured for
+  Silent,            // the device stops delivering (unplugged cable, dead driver)
+  WrongSize,         // camera: frames arrive with a size the firmware was not configured for
+  Frozen,            // camera: the same image again with every new frame; IMU: the same sample
+  Blank,             // camera: every frame one flat colour (lens cap, blank capture buffers)
+  NanRanges,         // lidar: every range NaN
+  ZeroRanges,        // lidar: every range 0
+  OutOfLimitRanges,  // lidar: every range beyond range_max_m (finite)
+  OutOfRange,        // IMU: a yaw rate no robot on a floor turns at, and a NaN roll
 };
 
 class SimCamera final : public Camera {
@@ -43,7 +51,9 @@ class SimCamera final : public Camera {
   void inject_fault(SimSensorFault f) { fault_ = f; }
 
  private:
-  std::unique_ptr<CameraFrame> frame_;  // sized once at construction (3.7 MB)
+  std::unique_ptr<CameraFrame> frame_;   // sized once at construction (3.7 MB)
+  std::unique_ptr<CameraFrame> frozen_;  // the image a Frozen camera repeats
+  bool frozen_taken_ = false;
   std::uint32_t seq_ = 0;
   SimSensorFault fault_ = SimSensorFault::None;
 };
@@ -64,13 +74,15 @@ class SimRangeScanner final : public RangeScanner {
 
 class SimImu final : public Imu {
  public:
-  ImuSample read() override { return fault_ ? ImuSample{} : sample_; }
-  void publish(const ImuSample& s) { sample_ = s; }
-  void inject_fault(bool silent) { fault_ = silent; }
+  ImuSample read() override { return fault_ == SimSensorFault::Silent ? ImuSample{} : sample_; }
+  // Simulator side: the newest measurement (a Frozen IMU keeps handing out the old one).
+  void publish(const ImuSample& s);
+  // Silent, Frozen or OutOfRange.
+  void inject_fault(SimSensorFault f) { fault_ = f; }
 
  private:
   ImuSample sample_{};
-  bool fault_ = false;
+  SimSensorFault fault_ = SimSensorFault::None;
 };
 
 // Emulates the drive side of the CiA 402 state machine: enable takes one bus sync, quick stop

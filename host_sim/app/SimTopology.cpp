@@ -28,11 +28,15 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   c.camera = camera_mount(r.camera);
   // Three missed frames in a row is a dead camera.
   c.camera_timeout_s = std::max(0.2, 3.0 / r.camera.rate_hz);
+  c.camera_rate_hz = r.camera.rate_hz;
   c.lidar.present = true;
   c.lidar.x_m = r.lidar.x_m;
   c.lidar.y_m = r.lidar.y_m;
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
   c.lidar.timeout_s = std::max(0.5, 5.0 / r.lidar.rate_hz);
+  c.lidar.rate_hz = r.lidar.rate_hz;
+  c.imu_present = true;
+  c.health = fw::health_config(c);
   c.detector.line = color_threshold(s.mission.line_color_name, s.mission.line_color);
   c.detector.end = color_threshold(s.mission.end_color_name, s.mission.end_color);
   c.strategy.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority

@@ -8,8 +8,34 @@ namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-constexpr int kShift = 4;        // sub-pixel bits for cv::fillConvexPoly
-constexpr double kNearZ = 0.02;  // clip polygons this close to the camera plane [m]
+constexpr int kShift = 4;              // sub-pixel bits for cv::fillConvexPoly
+constexpr double kNearZ = 0.02;        // clip polygons this close to the camera plane [m]
+constexpr double kSpeckleCell = 0.25;  // floor texture: one speckle per cell this size [m]
+constexpr double kTextureRange = 6.0;  // no texture beyond this from the camera (sub-pixel) [m]
+
+// 64-bit mix of a floor cell's integer coordinates (splitmix64 finaliser).
+std::uint64_t cell_hash(std::int64_t i, std::int64_t j) {
+  std::uint64_t z =
+      std::uint64_t(i) * 0x9E3779B97F4A7C15ULL ^ std::uint64_t(j) * 0xC2B2AE3D27D4EB4FULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+// Uniform in [0, 1) from 16 bits of h starting at bit `at`.
+double unit(std::uint64_t h, int at) {
+  return double((h >> at) & 0xFFFF) / 65536.0;
+}
+
+// A speckle's shade of the floor colour for a factor f in [0.85, 1.15].
+Rgb shade(Rgb c, double f) {
+  const bool dark = c.r < 56 && c.g < 56 && c.b < 56;
+  auto ch = [&](std::uint8_t v) {
+    const double x = dark ? double(v) + (f - 1.0) * 80.0 : double(v) * f;
+    return static_cast<std::uint8_t>(std::clamp(std::lround(x), 0L, 255L));
+  };
+  return {ch(c.r), ch(c.g), ch(c.b)};
+}
 
 std::vector<Vec2> disk(Vec2 c, double r, int n) {
   std::vector<Vec2> pts;
@@ -82,6 +108,34 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
   const double far_angle =
       std::max(cs.tilt_deg * kDeg - std::atan2(cs.height / 2.0, cam_.fx()), 0.05);
   view_radius_m_ = std::min(3.0 * cs.z_m / std::tan(far_angle) + 1.0, 30.0);
+  // The floor the image can show, as a robot-frame box: the image border's floor points, those
+  // beyond the texture range (or above the horizon) cut at that range.
+  const double reach = std::min(view_radius_m_, kTextureRange);
+  texture_x0_ = 1e9;
+  texture_x1_ = -1e9;
+  texture_y_ = 0.0;
+  const Vec2 cam_xy{cs.x_m, cs.y_m};
+  for (int k = 0; k <= 64; ++k) {
+    const double a = k / 64.0;
+    const fw::Vec2 border[4] = {{a * (cs.width - 1), 0.0},
+                                {a * (cs.width - 1), cs.height - 1.0},
+                                {0.0, a * (cs.height - 1)},
+                                {cs.width - 1.0, a * (cs.height - 1)}};
+    for (const fw::Vec2& px : border) {
+      fw::Vec2 f;
+      bool ok = cam_.pixel_to_floor(px, f);
+      if (ok) {
+        const double dx = f.x() - cam_xy.x, dy = f.y() - cam_xy.y, d = std::hypot(dx, dy);
+        if (d > reach) f = fw::Vec2(cam_xy.x + dx * reach / d, cam_xy.y + dy * reach / d);
+      } else {
+        f = fw::Vec2(cam_xy.x + reach, 0.0);  // above the horizon: the floor runs out to reach
+        texture_y_ = std::max(texture_y_, reach);
+      }
+      texture_x0_ = std::min(texture_x0_, f.x());
+      texture_x1_ = std::max(texture_x1_, f.x());
+      texture_y_ = std::max(texture_y_, std::fabs(f.y()));
+    }
+  }
   if (noise_std_ > 0) {
     // A table of noise samples, read from a random offset each frame: per-pixel Gaussian draws
     // would cost more than the rest of the simulation together.
@@ -116,44 +170,10 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
   const double cam_wx = pose.x + co * cs.x_m - si * cs.y_m;
   const double cam_wy = pose.y + si * cs.x_m + co * cs.y_m;
-  std::vector<fw::Vec3> in, out;
-  std::vector<cv::Point> px;
+  draw_texture(pose, img);
   for (const Poly& poly : polys_) {
     if (std::hypot(poly.cx - cam_wx, poly.cy - cam_wy) > view_radius_m_ + poly.r) continue;
-    // World floor points -> camera frame.
-    in.clear();
-    for (const Vec2& w : poly.pts) {
-      const double dx = w.x - pose.x, dy = w.y - pose.y;
-      in.push_back(cam_.to_camera(fw::Vec3(co * dx + si * dy, -si * dx + co * dy, 0.0)));
-    }
-    // Sutherland-Hodgman against the plane z = kNearZ: keeps what is in front of the camera.
-    out.clear();
-    for (std::size_t i = 0; i < in.size(); ++i) {
-      const fw::Vec3& a = in[i];
-      const fw::Vec3& b = in[(i + 1) % in.size()];
-      const bool ain = a.z() >= kNearZ, bin = b.z() >= kNearZ;
-      if (ain) out.push_back(a);
-      if (ain != bin) out.push_back(a + (b - a) * ((kNearZ - a.z()) / (b.z() - a.z())));
-    }
-    if (out.size() < 3) continue;
-    px.clear();
-    bool any_inside = false;
-    double umin = 1e18, umax = -1e18, vmin = 1e18, vmax = -1e18;
-    for (const fw::Vec3& p : out) {
-      const double u = cam_.fx() * p.x() / p.z() + cam_.cx();
-      const double v = cam_.fx() * p.y() / p.z() + cam_.cy();
-      umin = std::min(umin, u);
-      umax = std::max(umax, u);
-      vmin = std::min(vmin, v);
-      vmax = std::max(vmax, v);
-      // Clamp far outside values so fixed-point coordinates cannot overflow.
-      px.emplace_back(int(std::lround(std::clamp(u, -1e5, 1e5) * (1 << kShift))),
-                      int(std::lround(std::clamp(v, -1e5, 1e5) * (1 << kShift))));
-    }
-    any_inside = umax >= -1 && umin <= cs.width && vmax >= -1 && vmin <= cs.height;
-    if (!any_inside) continue;
-    cv::fillConvexPoly(img, px.data(), int(px.size()),
-                       cv::Scalar(poly.color.b, poly.color.g, poly.color.r), cv::LINE_8, kShift);
+    draw(poly.pts, poly.color, pose, img);
   }
 
   if (noise_std_ > 0) {
@@ -165,6 +185,82 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
       if (++k == noise_.size()) k = 0;
     }
   }
+}
+
+void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
+  const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
+  // World box round the robot-frame box of visible floor.
+  double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
+  for (double rx : {texture_x0_, texture_x1_}) {
+    for (double ry : {-texture_y_, texture_y_}) {
+      const double wx = pose.x + co * rx - si * ry, wy = pose.y + si * rx + co * ry;
+      x0 = std::min(x0, wx);
+      x1 = std::max(x1, wx);
+      y0 = std::min(y0, wy);
+      y1 = std::max(y1, wy);
+    }
+  }
+  const auto i0 = std::int64_t(std::floor(x0 / kSpeckleCell));
+  const auto i1 = std::int64_t(std::floor(x1 / kSpeckleCell));
+  const auto j0 = std::int64_t(std::floor(y0 / kSpeckleCell));
+  const auto j1 = std::int64_t(std::floor(y1 / kSpeckleCell));
+  for (std::int64_t i = i0; i <= i1; ++i) {
+    for (std::int64_t j = j0; j <= j1; ++j) {
+      const std::uint64_t h = cell_hash(i, j);
+      const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));  // 4 to 10 cm across
+      const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
+      const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
+      // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15.
+      const double u = unit(h, 48);
+      const double f = u < 0.5 ? 0.85 + 0.2 * u : 1.05 + 0.2 * (u - 0.5);
+      const double a = 3.0 * unit(h, 8);
+      const double ca = std::cos(a) * half, sa = std::sin(a) * half;
+      speckle_.assign({{cx + ca - sa, cy + sa + ca},
+                       {cx - ca - sa, cy - sa + ca},
+                       {cx - ca + sa, cy - sa - ca},
+                       {cx + ca + sa, cy + sa - ca}});
+      draw(speckle_, shade(scenario_.floor, f), pose, img);
+    }
+  }
+}
+
+void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose,
+                          cv::Mat& img) {
+  const CameraSpec& cs = scenario_.robot.camera;
+  const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
+  // World floor points -> camera frame.
+  in_.clear();
+  for (const Vec2& w : pts) {
+    const double dx = w.x - pose.x, dy = w.y - pose.y;
+    in_.push_back(cam_.to_camera(fw::Vec3(co * dx + si * dy, -si * dx + co * dy, 0.0)));
+  }
+  // Sutherland-Hodgman against the plane z = kNearZ: keeps what is in front of the camera.
+  out_.clear();
+  for (std::size_t i = 0; i < in_.size(); ++i) {
+    const fw::Vec3& a = in_[i];
+    const fw::Vec3& b = in_[(i + 1) % in_.size()];
+    const bool ain = a.z() >= kNearZ, bin = b.z() >= kNearZ;
+    if (ain) out_.push_back(a);
+    if (ain != bin) out_.push_back(a + (b - a) * ((kNearZ - a.z()) / (b.z() - a.z())));
+  }
+  if (out_.size() < 3) return;
+  px_.clear();
+  double umin = 1e18, umax = -1e18, vmin = 1e18, vmax = -1e18;
+  for (const fw::Vec3& p : out_) {
+    const double u = cam_.fx() * p.x() / p.z() + cam_.cx();
+    const double v = cam_.fx() * p.y() / p.z() + cam_.cy();
+    umin = std::min(umin, u);
+    umax = std::max(umax, u);
+    vmin = std::min(vmin, v);
+    vmax = std::max(vmax, v);
+    // Clamp far outside values so fixed-point coordinates cannot overflow.
+    px_.emplace_back(int(std::lround(std::clamp(u, -1e5, 1e5) * (1 << kShift))),
+                     int(std::lround(std::clamp(v, -1e5, 1e5) * (1 << kShift))));
+  }
+  const bool any_inside = umax >= -1 && umin <= cs.width && vmax >= -1 && vmin <= cs.height;
+  if (!any_inside) return;
+  cv::fillConvexPoly(img, px_.data(), int(px_.size()), cv::Scalar(color.b, color.g, color.r),
+                     cv::LINE_8, kShift);
 }
 
 }  // namespace carril::sim

@@ -1,10 +1,19 @@
 #pragma once
-// Renders what the robot's downward-tilted camera sees of the floor: floor colour, tape, marks
-// and obstacle footprints, by projecting their ground polygons through the camera model (no
-// per-pixel warp), with optional Gaussian pixel noise. Output is the real driver's frame type.
+// Renders what the robot's downward-tilted camera sees of the floor: floor colour with a light
+// world-fixed texture, tape, marks and obstacle footprints, by projecting their ground polygons
+// through the camera model (no per-pixel warp), with optional Gaussian pixel noise. Output is the
+// real driver's frame type.
+//
+// The texture: one speckle per kSpeckleCell-metre floor cell, its place, size and shade drawn
+// from a hash of the cell (the same floor in every run). A speckle's colour is the floor colour
+// times a factor in [0.85, 1.15] (floors darker than 56 per channel: plus or minus up to 12
+// levels instead). A real floor is never one flat colour and its image changes as the robot
+// moves; the camera health rules rely on both (firmware/health).
 #include <cstdint>
 #include <random>
 #include <vector>
+
+#include <opencv2/core.hpp>
 
 #include "firmware/perception/CameraModel.hpp"
 #include "hal/Types.hpp"
@@ -26,11 +35,18 @@ class CameraRenderer {
     double cx, cy, r;  // bounding circle, for culling
   };
   void add_poly(std::vector<Vec2> pts, Rgb color);
+  // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
+  void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
+  void draw_texture(const Pose2& pose, cv::Mat& img);
 
   const Scenario& scenario_;
   fw::CameraModel cam_;
   std::vector<Poly> polys_;  // drawn in order: obstacles last, over the tape
   double view_radius_m_;     // floor points further than this from the camera are not visible
+  double texture_x0_, texture_x1_, texture_y_;  // robot-frame box holding the visible floor [m]
+  std::vector<fw::Vec3> in_, out_;
+  std::vector<cv::Point> px_;
+  std::vector<Vec2> speckle_;
   double noise_std_;
   std::vector<std::int16_t> noise_;  // precomputed N(0, std) samples
   std::mt19937_64 rng_;

@@ -41,6 +41,10 @@ fw::FirmwareConfig robot_config() {
   c.lidar.y_m = -0.35;
   c.lidar.yaw_rad = -45.0 * kDeg;
   c.lidar.timeout_s = 0.5;
+  c.lidar.rate_hz = 20.0;
+  c.camera_rate_hz = 30.0;
+  c.imu_present = false;  // no IMU backend yet (hal::NullImu)
+  c.health = fw::health_config(c);
   c.strategy.strategy = fw::Strategy::LinePriority;  // mecanum: the thesis's best on campero
   c.strategy.speed_mps = 0.5;
   return c;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 
 #include "hal/sim/SimDevices.hpp"
@@ -134,11 +135,99 @@ TEST(SimDevicesImuTest, PublishAndSilentFault) {
   EXPECT_TRUE(imu.read().valid);
   EXPECT_EQ(imu.read().stamp_ns, 42);
   EXPECT_EQ(imu.read().yaw_rate_radps, 0.25F);
-  imu.inject_fault(true);
+  imu.inject_fault(SimSensorFault::Silent);
   EXPECT_FALSE(imu.read().valid);
   EXPECT_EQ(imu.read().stamp_ns, 0);
-  imu.inject_fault(false);
+  imu.inject_fault(SimSensorFault::None);
   EXPECT_TRUE(imu.read().valid);
+}
+
+TEST(SimDevicesCameraTest, BlankFaultPublishesOneFlatColour) {
+  SimCamera cam;
+  cam.back_buffer().width = 64;
+  cam.back_buffer().height = 48;
+  cam.back_buffer().pixel(10, 20)[1] = 200;
+  cam.inject_fault(SimSensorFault::Blank);
+  cam.publish(1'000);
+  const CameraFrame* f = cam.latest();
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->seq, 1U);  // still on time
+  for (int v = 0; v < 48; ++v) {
+    for (int u = 0; u < 64; ++u) ASSERT_EQ(f->pixel(u, v)[1], 0) << u << "," << v;
+  }
+}
+
+TEST(SimDevicesCameraTest, FrozenFaultRepeatsTheLastImageWithFreshStamps) {
+  SimCamera cam;
+  cam.back_buffer().width = 64;
+  cam.back_buffer().height = 48;
+  cam.back_buffer().pixel(3, 4)[0] = 77;
+  cam.inject_fault(SimSensorFault::Frozen);
+  cam.publish(1'000);
+  cam.back_buffer().pixel(3, 4)[0] = 99;  // the scene changes ...
+  cam.publish(2'000);
+  const CameraFrame* f = cam.latest();
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->seq, 2U);
+  EXPECT_EQ(f->stamp_ns, 2'000);
+  EXPECT_EQ(f->pixel(3, 4)[0], 77);  // ... the image does not
+  cam.inject_fault(SimSensorFault::None);
+  cam.back_buffer().pixel(3, 4)[0] = 99;
+  cam.publish(3'000);
+  EXPECT_EQ(cam.latest()->pixel(3, 4)[0], 99);
+}
+
+class SimDevicesScannerGarbage : public testing::TestWithParam<SimSensorFault> {};
+
+TEST_P(SimDevicesScannerGarbage, EveryRangeReplacedScansStillOnTime) {
+  SimRangeScanner scanner;
+  LaserScan& b = scanner.back_buffer();
+  b.count = 100;
+  b.range_min_m = 0.05F;
+  b.range_max_m = 8.0F;
+  for (int i = 0; i < 100; ++i) b.ranges_m[std::size_t(i)] = 2.0F;
+  scanner.inject_fault(GetParam());
+  scanner.publish(1'000);
+  const LaserScan* s = scanner.latest();
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->seq, 1U);
+  for (int i = 0; i < 100; ++i) {
+    const float r = s->ranges_m[std::size_t(i)];
+    const bool valid = std::isfinite(r) && r > 0.0F && r >= s->range_min_m && r <= s->range_max_m;
+    ASSERT_FALSE(valid) << i << ": " << r;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Fault, SimDevicesScannerGarbage,
+                         testing::Values(SimSensorFault::NanRanges, SimSensorFault::ZeroRanges,
+                                         SimSensorFault::OutOfLimitRanges));
+
+TEST(SimDevicesImuTest, FrozenRepeatsTheSampleStampAndAll) {
+  SimImu imu;
+  ImuSample s;
+  s.valid = true;
+  s.stamp_ns = 1;
+  s.yaw_rate_radps = 0.1F;
+  imu.publish(s);
+  imu.inject_fault(SimSensorFault::Frozen);
+  s.stamp_ns = 2;
+  s.yaw_rate_radps = 0.7F;
+  imu.publish(s);
+  EXPECT_EQ(imu.read().stamp_ns, 1);
+  EXPECT_EQ(imu.read().yaw_rate_radps, 0.1F);
+  EXPECT_TRUE(imu.read().valid);
+}
+
+TEST(SimDevicesImuTest, OutOfRangeReadsImplausibleValues) {
+  SimImu imu;
+  ImuSample s;
+  s.valid = true;
+  s.stamp_ns = 5;
+  imu.inject_fault(SimSensorFault::OutOfRange);
+  imu.publish(s);
+  EXPECT_EQ(imu.read().stamp_ns, 5);
+  EXPECT_TRUE(std::isnan(imu.read().roll_rad));
+  EXPECT_GT(imu.read().yaw_rate_radps, 100.0F);
 }
 
 TEST(SimDevicesClockTest, SleepJumpsForwardNeverBack) {

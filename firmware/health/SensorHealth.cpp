@@ -1,0 +1,114 @@
+#include "firmware/health/SensorHealth.hpp"
+
+#include <cassert>
+#include <cmath>
+
+namespace carril::fw {
+
+// ---- Lidar ----
+
+ScanHealth::ScanHealth(const ScanHealthConfig& cfg) : cfg_(cfg) {
+  assert(cfg.window_scans >= 1 && cfg.window_scans <= kMaxWindow);
+}
+
+bool ScanHealth::add(const hal::LaserScan& scan) {
+  Count c;
+  for (int i = 0; i < scan.count && i < hal::kMaxScanBeams; ++i) {
+    const float r = scan.ranges_m[std::size_t(i)];
+    // isfinite first: comparing a NaN would raise FE_INVALID.
+    if (std::isfinite(r) && r > 0.0F && r >= scan.range_min_m && r <= scan.range_max_m) ++c.valid;
+  }
+  c.total = scan.count;
+  window_.push(c);
+  while (window_.size() > std::size_t(cfg_.window_scans)) {
+    Count old;
+    window_.pop(old);
+  }
+  if (window_.size() < std::size_t(cfg_.window_scans)) return true;
+  return valid_fraction() >= cfg_.min_valid_fraction;
+}
+
+double ScanHealth::valid_fraction() const {
+  std::uint64_t valid = 0, total = 0;
+  for (std::size_t i = 0; i < window_.size(); ++i) {
+    valid += window_[i].valid;
+    total += window_[i].total;
+  }
+  // A scan with no beams at all has nothing valid in it.
+  if (window_.empty()) return 1.0;
+  return total == 0 ? 0.0 : double(valid) / double(total);
+}
+
+// ---- Camera ----
+
+FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) {
+  const int step = cfg_.sample_step_px > 0 ? cfg_.sample_step_px : 1;
+  int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV offset basis
+  for (int v = step / 2; v < frame.height; v += step) {
+    for (int u = step / 2; u < frame.width; u += step) {
+      const std::uint8_t* p = frame.pixel(u, v);
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = p[c] < lo[c] ? p[c] : lo[c];
+        hi[c] = p[c] > hi[c] ? p[c] : hi[c];
+      }
+      // One multiply per sample: the three bytes as one word.
+      h = (h ^ (std::uint64_t(p[0]) | std::uint64_t(p[1]) << 8 | std::uint64_t(p[2]) << 16)) *
+          0x100000001b3ULL;
+    }
+  }
+  spread_ = 0;
+  for (int c = 0; c < 3; ++c) spread_ = hi[c] - lo[c] > spread_ ? hi[c] - lo[c] : spread_;
+
+  const bool changed = !have_hash_ || h != hash_;
+  hash_ = h;
+  have_hash_ = true;
+  if (changed) changed_at_ = odom;
+
+  blank_run_ = spread_ <= cfg_.blank_tolerance ? blank_run_ + 1 : 0;
+  if (blank_run_ >= cfg_.blank_frames) return FrameVerdict::Blank;
+  // The same image again is normal for a robot standing still; not for one that has moved.
+  const double moved = (Vec2(odom.x, odom.y) - Vec2(changed_at_.x, changed_at_.y)).norm();
+  const double turned = std::fabs(wrap_angle(odom.yaw - changed_at_.yaw));
+  if (!changed && (moved > cfg_.frozen_motion_m || turned > cfg_.frozen_turn_rad)) {
+    return FrameVerdict::Frozen;
+  }
+  return FrameVerdict::Ok;
+}
+
+// ---- IMU ----
+
+ImuVerdict ImuHealth::add(const hal::ImuSample& s, double t_s, double odom_wz) {
+  if (!s.valid) return ImuVerdict::Ok;  // no sample: nothing to judge (not fitted, or starting)
+  const bool plausible = std::isfinite(s.roll_rad) && std::isfinite(s.pitch_rad) &&
+                         std::isfinite(s.yaw_rate_radps) &&
+                         std::fabs(double(s.roll_rad)) <= cfg_.max_tilt_rad &&
+                         std::fabs(double(s.pitch_rad)) <= cfg_.max_tilt_rad &&
+                         std::fabs(double(s.yaw_rate_radps)) <= cfg_.max_yaw_rate_radps;
+  bad_run_ = plausible ? 0 : bad_run_ + 1;
+  if (bad_run_ >= cfg_.out_of_range_samples) return ImuVerdict::OutOfRange;
+  if (!plausible) return ImuVerdict::Ok;
+
+  // Bit-identical values: a live IMU's noise makes that impossible for long, unless the
+  // simulator's noise-free one sees a robot whose motion does not change.
+  const bool same_values = have_last_ && s.roll_rad == last_.roll_rad &&
+                           s.pitch_rad == last_.pitch_rad &&
+                           s.yaw_rate_radps == last_.yaw_rate_radps;
+  const bool same_stamp = have_last_ && s.stamp_ns == last_.stamp_ns;
+  if (!same_values) {
+    same_since_s_ = t_s;
+    odom_wz_min_ = odom_wz_max_ = odom_wz;
+  } else {
+    odom_wz_min_ = odom_wz < odom_wz_min_ ? odom_wz : odom_wz_min_;
+    odom_wz_max_ = odom_wz > odom_wz_max_ ? odom_wz : odom_wz_max_;
+  }
+  if (!same_stamp) stamp_since_s_ = t_s;
+  last_ = s;
+  have_last_ = true;
+  const bool stale = t_s - stamp_since_s_ > cfg_.frozen_s;
+  const bool stuck = t_s - same_since_s_ > cfg_.frozen_s &&
+                     odom_wz_max_ - odom_wz_min_ > cfg_.frozen_min_turn_change_radps;
+  return stale || stuck ? ImuVerdict::Frozen : ImuVerdict::Ok;
+}
+
+}  // namespace carril::fw
