@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian packages carril needs, and only those that are missing (idempotent).
-# Nothing is downloaded from anywhere but Debian's archive.
+# Nothing is downloaded from anywhere but Debian's archive. Quiet: one line saying that all are
+# present or what it installs; apt's output goes to a log that is shown only when apt fails.
 set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libeigen3-dev libopencv-dev libbox2d-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   g++-aarch64-linux-gnu qemu-user
-  can-utils kmod
+  can-utils user-mode-linux kmod
+  rt-tests
+  clang libclang-rt-14-dev # libclang-rt-14-dev holds libFuzzer (-fsanitize=fuzzer)
+  slurm-wlm munge
   python3
 )
 missing=()
@@ -20,9 +24,15 @@ if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages present"
   exit 0
 fi
-echo "setup: installing ${missing[*]}"
+echo "setup: installing ${missing[*]} (apt-get, may take a while)"
 sudo_cmd=()
 [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+log=$(mktemp "${TMPDIR:-/tmp}/carril-setup.XXXXXX.log")
 export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if ! { "${sudo_cmd[@]}" apt-get update -q && "${sudo_cmd[@]}" apt-get install -y -q \
+  --no-install-recommends "${missing[@]}"; } </dev/null >"$log" 2>&1; then
+  echo "setup: apt-get failed; the last lines of its log ($log):" >&2
+  tail -n 40 "$log" >&2
+  exit 1
+fi
+rm -f "$log"

@@ -2,12 +2,19 @@
 // fast as it can go unless asked otherwise, and writes trajectory, summary and plots.
 // Exit status: 0 the run met the scenario's expect block (or it has none), 1 it did not,
 // 2 bad input or usage.
+//
+// Test hook: CARRIL_SIM_STARTUP_DELAY_MS=N sleeps N ms in start-up, after loading the scenario
+// (interrupted by SIGINT/SIGTERM/SIGHUP), so that tests can signal a process still starting.
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 
 #include "host_sim/app/LiveView.hpp"
@@ -17,17 +24,78 @@
 #include "tests/support/FpTraps.hpp"
 
 namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) {
-  g_stop.store(true);
+// The first stopping signal received (SIGINT, SIGTERM, SIGHUP), 0 for none.
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+extern "C" void on_signal(int sig) {
+  int none = 0;
+  g_signal.compare_exchange_strong(none, sig);
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
+const char* signal_name(int sig) {
+  switch (sig) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "a signal";
+  }
+}
+
+// True (after saying so) when a signal came during start-up stage `stage`: nothing is written.
+bool stopped_during_startup(const char* stage) {
+  const int sig = g_signal.load();
+  if (sig == 0) return false;
+  std::fprintf(stderr, "carril_sim: stopped by %s during start-up (%s); nothing written\n",
+               signal_name(sig), stage);
+  return true;
+}
+
+// A non-negative decimal (--seed, as the scenario file's `seed`): digits only, an optional leading
+// '+', at most 2^64 - 1.
+std::optional<std::uint64_t> parse_decimal_u64(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty()) return std::nullopt;
+  for (const char c : s) {
+    if (c < '0' || c > '9') return std::nullopt;
+  }
+  std::uint64_t v = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || ptr != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// The start-up delay test hook (see the top of this file); sleeps in slices so a signal ends it.
+void startup_delay_for_tests() {
+  const char* env = std::getenv("CARRIL_SIM_STARTUP_DELAY_MS");
+  if (env == nullptr) return;
+  const std::optional<std::uint64_t> ms = parse_decimal_u64(env);
+  if (!ms) return;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(*ms);
+  while (g_signal.load() == 0 && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
 }
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First, so that a signal at any point of start-up is caught and reported, not fatal.
+  install_signal_handlers();
   CLI::App cli{"carril_sim: run a carril scenario in the Box2D host simulator"};
   std::string scenario_path, out_dir;
   carril::sim::ScenarioOverrides overrides;
   std::uint64_t seed = 0;
+  std::string seed_text;
   bool realtime = false, view = false, quiet = false;
   cli.add_option("--scenario", scenario_path, "scenario file (YAML)")->required();
   cli.add_option("--out", out_dir,
@@ -37,7 +105,12 @@ int main(int argc, char** argv) {
                  "robot preset instead of the scenario's (campero, pioneer3at)");
   cli.add_option("--strategy", overrides.strategy,
                  "mission strategy instead of the scenario's (marks, line_priority, pid)");
-  auto* seed_opt = cli.add_option("--seed", seed, "random seed (default: the scenario's seed)");
+  // Taken as text and checked here: CLI11's integer conversion would wrap -1 to 2^64 - 1.
+  auto* seed_opt =
+      cli.add_option("--seed", seed_text,
+                     "random seed, an integer in [0, 18446744073709551615] (default: the "
+                     "scenario's seed)")
+          ->expected(0, 1);  // a missing value ("--seed=", "--seed --quiet") is ours to report
   cli.add_flag("--realtime", realtime, "pace the run to wall-clock time");
   cli.add_flag("--view", view, "open a live window: top view and camera image");
   cli.add_flag("--quiet", quiet, "print only the final summary line");
@@ -47,6 +120,18 @@ int main(int argc, char** argv) {
     const int rc = cli.exit(e);
     return rc == 0 ? 0 : 2;
   }
+  if (seed_opt->count()) {
+    const std::optional<std::uint64_t> parsed = parse_decimal_u64(seed_text);
+    if (!parsed) {
+      std::fprintf(stderr,
+                   "carril_sim: --seed: expected an integer in [0, 18446744073709551615] (digits, "
+                   "optionally a leading +), got \"%s\"\n",
+                   seed_text.c_str());
+      return 2;
+    }
+    seed = *parsed;
+  }
+  if (stopped_during_startup("reading the command line")) return 1;
 
   const carril::sim::LoadResult loaded =
       carril::sim::load_scenario(scenario_path, carril::sim::default_robots_dir(), overrides);
@@ -54,6 +139,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "carril_sim: %s\n", loaded.error.c_str());
     return 2;
   }
+  startup_delay_for_tests();
+  if (stopped_during_startup("loading the scenario")) return 1;
   const carril::sim::Scenario& scenario = loaded.scenario;
   if (!seed_opt->count()) seed = scenario.seed;
   if (out_dir.empty()) {
@@ -62,6 +149,15 @@ int main(int argc, char** argv) {
       out_dir += "_" + scenario.robot.preset + "_" + scenario.mission.strategy;
     }
   }
+  // Before the run, not after it: a run whose outputs cannot be written is not started.
+  {
+    std::string why;
+    if (!carril::sim::prepare_output_dir(out_dir, why)) {
+      std::fprintf(stderr, "carril_sim: --out: %s\n", why.c_str());
+      return 2;
+    }
+  }
+  if (stopped_during_startup("checking the output directory")) return 1;
 
   std::unique_ptr<carril::sim::LiveView> live;
   if (view) {
@@ -71,14 +167,14 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "carril_sim: --view: %s\n", why.c_str());
       return 2;
     }
+    if (stopped_during_startup("opening the view")) return 1;
   }
 
   // Floating-point traps on: a NaN born in the simulation stops it where it happens.
   carril::test::enable_fp_traps();
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
 
   carril::sim::SimRun run(scenario, seed);
+  if (stopped_during_startup("building the world")) return 1;
   if (!quiet) {
     std::printf(
         "carril_sim: scenario %s (%s), robot %s, strategy %s, seed %llu, %.0f s simulated\n",
@@ -90,11 +186,14 @@ int main(int argc, char** argv) {
   const auto t0 = clock::now();
   auto last_progress = t0;
   const double period = 1.0 / scenario.robot.control_rate_hz;
-  while (run.step()) {
+  // Start-up ends with the first tick; a signal after it stops the run, which is then written.
+  const bool running = run.step();
+  if (stopped_during_startup("the first tick")) return 1;
+  for (bool more = running; more; more = run.step()) {
     for (const std::string& line : run.take_log()) {
       if (!quiet) std::printf("  %s\n", line.c_str());
     }
-    if (g_stop.load()) {
+    if (g_signal.load() != 0) {
       run.abort();
       break;
     }

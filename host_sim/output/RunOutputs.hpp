@@ -1,6 +1,7 @@
 #pragma once
 // Everything a run leaves on disk: trajectory.csv, summary.json, trajectory.png, velocities.png.
-// Every file is written whole: to a temporary file in the same directory, then renamed.
+// The four replace the previous run's as one set: they are written into a staging directory
+// beside the output directory, synced, and the staging directory is swapped in with one rename.
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,10 +54,30 @@ bool write_file_atomic(const std::string& path, const std::string& content, std:
 std::string summary_to_json(const RunSummary& s);
 std::string trajectory_to_csv(const std::vector<TrajectoryRow>& rows);
 
-// Writes the four files into `dir` (created if missing). Returns false with `error` set on failure.
+// Checks, before a run, that `dir` can take its outputs: `dir` is missing or a directory holding
+// nothing but a previous run's four files (and stale temporaries of a write that was cut short),
+// since the whole directory is replaced; its parent directories are created; a staging directory
+// with a probe file can be created beside it (then removed). Returns false with `error` (naming
+// the path and the OS's reason) otherwise.
+bool prepare_output_dir(const std::string& dir, std::string& error);
+
+// Writes the four files and swaps them in for `dir` as one set: into a fresh staging directory
+// `.<name>.tmp.<pid>` in `dir`'s parent, each synced, then an atomic exchange with `dir`
+// (renameat2 RENAME_EXCHANGE; a plain rename when `dir` does not exist; where the filesystem
+// cannot exchange, `dir` is renamed aside to `.<name>.old.<pid>` first and restored if the second
+// rename fails), then the previous set is removed. The same refusal as prepare_output_dir applies.
+// On failure returns false with `error` set, the previous set is left as it was and the staging
+// directory is removed; a crash at any point leaves either the old or the new set whole under
+// `dir` or beside it, never a mix.
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
                        std::string& error);
+
+// Test hook: makes the next write_run_outputs calls fail at `step` until reset with "". Steps: a
+// file name ("trajectory.csv", "trajectory.png", "velocities.png", "summary.json": writing that
+// file into the staging directory fails), "swap" (the final rename fails), "no_exchange" (not a
+// failure: the filesystem is taken not to support RENAME_EXCHANGE, so the fallback runs).
+void set_output_fault_for_test(const std::string& step);
 
 }  // namespace carril::sim

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# carril_sim's command-line contract: exit codes 0/1/2, error messages, output files, Ctrl-C.
+# carril_sim's command-line contract: exit codes 0/1/2, error messages, output files, --seed and
+# --out checks, signals (Ctrl-C, SIGHUP, SIGTERM in start-up).
 # Usage: cli_test.sh <carril_sim> <source dir>
 set -u
 sim=$1
@@ -18,6 +19,8 @@ check() {  # check <description> <condition...>
     fails=$((fails + 1))
   fi
 }
+
+differ() { ! cmp -s "$1" "$2"; }
 
 # 1. Usage error: no --scenario.
 "$sim" >"$work/out" 2>"$work/err"
@@ -52,28 +55,116 @@ check "csv header" test "$(head -1 "$work/circle/trajectory.csv")" = "t,x,y,yaw,
 check "summary says passed" grep -q '"passed": true' "$work/circle/summary.json"
 check "no temporary files left" test -z "$(ls "$work/circle" | grep -v -E '^(trajectory.csv|summary.json|trajectory.png|velocities.png)$')"
 
-# 6. --seed overrides the scenario's seed and is reproducible.
-"$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/s1" --seed 5 --quiet >/dev/null 2>&1
-"$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/s2" --seed 5 --quiet >/dev/null 2>&1
+# 6. --seed overrides the scenario's seed and is reproducible. The circle with camera and lidar
+# noise (the plain circle has none, so there every seed gives the same file) and a short run:
+# the same seed gives the same trajectory, and, as the control, another seed a different one.
+sed -e 's/^duration_s: 50/duration_s: 8/' \
+  -e 's/^  start: \(.*\)$/  start: \1\n  camera: {noise_std: 40}\n  lidar: {noise_std_m: 0.02}/' \
+  "$src/scenarios/circle.yaml" >"$work/noisy.yaml"
+check "noisy copy has the camera override" grep -q "^  camera: {noise_std: 40}" "$work/noisy.yaml"
+check "noisy copy has the lidar override" grep -q "^  lidar: {noise_std_m: 0.02}" "$work/noisy.yaml"
+for run in s1:5 s2:5 s3:6; do
+  "$sim" --scenario "$work/noisy.yaml" --out "$work/${run%%:*}" --seed "${run#*:}" --quiet >/dev/null 2>&1
+  check "noisy run ${run%%:*} ran to its time limit (exit 1, unmet laps)" test $? -eq 1
+  check "noisy run ${run%%:*} wrote its trajectory" test -s "$work/${run%%:*}/trajectory.csv"
+done
 check "same seed, same trajectory file" cmp -s "$work/s1/trajectory.csv" "$work/s2/trajectory.csv"
+check "different seed, different trajectory file" differ "$work/s1/trajectory.csv" "$work/s3/trajectory.csv"
 
-# 7. Ctrl-C during a --realtime run: stops, still writes everything, result "aborted", exit 1.
-"$sim" --scenario "$src/scenarios/square.yaml" --out "$work/int" --realtime >"$work/out" 2>"$work/err" &
-pid=$!
-sleep 2
-kill -INT "$pid"
-wait "$pid"
-rc=$?
-check "interrupted run exits 1" test $rc -eq 1
-check "interrupted run wrote summary" grep -q '"result": "aborted"' "$work/int/summary.json"
-rows=$(($(wc -l <"$work/int/trajectory.csv") - 1))
-check "interrupted run kept its rows (got $rows)" test "$rows" -ge 100
-check "interrupted run took about real time" python3 -c "import json,sys; s=json.load(open('$work/int/summary.json')); sys.exit(0 if 1.0 < s['sim_time_s'] < 4.0 else 1)"
+# 7. Ctrl-C (SIGINT) or a hang-up (SIGHUP) during a --realtime run: stops, still writes
+# everything, result "aborted", exit 1.
+for sig in INT HUP; do
+  "$sim" --scenario "$src/scenarios/square.yaml" --out "$work/int_$sig" --realtime >"$work/out" 2>"$work/err" &
+  pid=$!
+  sleep 2
+  kill -"$sig" "$pid"
+  wait "$pid"
+  rc=$?
+  d="$work/int_$sig"
+  check "SIG$sig: interrupted run exits 1" test $rc -eq 1
+  check "SIG$sig: interrupted run wrote summary" grep -q '"result": "aborted"' "$d/summary.json"
+  rows=$(($(wc -l <"$d/trajectory.csv") - 1))
+  check "SIG$sig: interrupted run kept its rows (got $rows)" test "$rows" -ge 100
+  check "SIG$sig: interrupted run took about real time" python3 -c "import json,sys; s=json.load(open('$d/summary.json')); sys.exit(0 if 1.0 < s['sim_time_s'] < 4.0 else 1)"
+done
 
 # 8. --view without a display is a usage error, not a crash.
 env -u DISPLAY "$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/view" --view >"$work/out" 2>"$work/err"
 check "--view without display exits 2" test $? -eq 2
 check "--view says why" grep -q "no display" "$work/err"
+
+# 9. --seed follows the scenario file's rule for `seed`: digits, an optional leading '+', at most
+# 2^64 - 1. Everything else is a usage error that names --seed, before the run starts.
+for bad in -1 18446744073709551616 1.5 1e3 "" abc 0x10 " 5" 5x; do
+  rm -rf "$work/seed"
+  "$sim" --scenario "$work/short.yaml" --out "$work/seed" --seed="$bad" >"$work/out" 2>"$work/err"
+  check "--seed '$bad' exits 2" test $? -eq 2
+  check "--seed '$bad': message names --seed and what it expects" grep -q -- "--seed: expected an integer in \[0, 18446744073709551615\]" "$work/err"
+  check "--seed '$bad': the run did not start" test ! -s "$work/out" -a ! -e "$work/seed"
+done
+"$sim" --scenario "$work/short.yaml" --out "$work/seed" --seed -1 >"$work/out" 2>"$work/err"
+check "--seed -1 (separate argument) exits 2" test $? -eq 2
+check "--seed -1 names --seed" grep -q -- "--seed: expected" "$work/err"
+"$sim" --scenario "$work/short.yaml" --out "$work/seed" --seed >"$work/out" 2>"$work/err"
+check "--seed without a value exits 2" test $? -eq 2
+check "--seed without a value names --seed" grep -q -- "--seed: expected" "$work/err"
+for good in +7:7 18446744073709551615:18446744073709551615 007:7; do
+  "$sim" --scenario "$work/short.yaml" --out "$work/seed" --seed "${good%%:*}" >"$work/out" 2>"$work/err"
+  check "--seed ${good%%:*} accepted (exit 1: the short run misses its laps)" test $? -eq 1
+  check "--seed ${good%%:*} is seed ${good#*:}" grep -q "seed ${good#*:}, " "$work/out"
+done
+
+# 10. --out is checked before the run: a path that cannot be created, or a directory holding other
+# files (the whole directory is replaced), is exit 2 with the path and the reason, and no run.
+: >"$work/plainfile"
+start=$(date +%s%N)
+"$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/plainfile/run" >"$work/out" 2>"$work/err"
+rc=$?
+ms=$((($(date +%s%N) - start) / 1000000))
+check "--out under a regular file exits 2" test $rc -eq 2
+check "--out error names the path and the reason" grep -q -- "--out: .*plainfile/run.*Not a directory" "$work/err"
+check "--out error comes before any run output" test ! -s "$work/out"
+check "--out error is immediate (took ${ms} ms)" test "$ms" -lt 2000
+if [ "$(id -u)" -ne 0 ]; then  # root writes anywhere
+  mkdir "$work/ro" && chmod a-w "$work/ro"
+  "$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/ro/sub/run" >"$work/out" 2>"$work/err"
+  check "--out under a read-only directory exits 2" test $? -eq 2
+  check "--out read-only: path and reason" grep -q -- "--out: .*ro/sub.*Permission denied" "$work/err"
+  check "--out read-only: no run" test ! -s "$work/out"
+  chmod u+w "$work/ro"
+fi
+mkdir -p "$work/mine"
+echo "my notes" >"$work/mine/notes.txt"
+"$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/mine" >"$work/out" 2>"$work/err"
+check "--out with foreign files exits 2" test $? -eq 2
+check "--out foreign files: message names the file" grep -q -- "--out: .*mine.*notes.txt" "$work/err"
+check "--out foreign files: no run" test ! -s "$work/out"
+check "--out foreign files: the file is untouched" test "$(cat "$work/mine/notes.txt")" = "my notes"
+# A previous run's directory is replaced as one set, with nothing left beside it.
+"$sim" --scenario "$work/short.yaml" --out "$work/circle" --quiet >/dev/null 2>&1
+check "rerun into a previous run's directory exits 1 (short run)" test $? -eq 1
+check "rerun replaced the summary" grep -q '"result": "time_limit"' "$work/circle/summary.json"
+check "rerun replaced the trajectory" test "$(wc -l <"$work/circle/trajectory.csv")" -lt 1000
+check "rerun left exactly the four files" test "$(ls -A "$work/circle" | sort | tr '\n' ' ')" = "summary.json trajectory.csv trajectory.png velocities.png "
+check "rerun left no staging directory" test -z "$(ls -A "$work" | grep '^\.')"
+
+# 11. A signal during start-up (held there by the CARRIL_SIM_STARTUP_DELAY_MS test hook) stops
+# carril_sim with a message naming the signal and the stage; exit 1, nothing written.
+for sig in TERM INT HUP; do
+  start=$(date +%s%N)
+  CARRIL_SIM_STARTUP_DELAY_MS=20000 "$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/early_$sig" >"$work/out" 2>"$work/err" &
+  pid=$!
+  sleep 0.5
+  kill -"$sig" "$pid"
+  wait "$pid"
+  rc=$?
+  ms=$((($(date +%s%N) - start) / 1000000))
+  check "SIG$sig in start-up exits 1" test $rc -eq 1
+  check "SIG$sig in start-up says so" grep -q "carril_sim: stopped by SIG$sig during start-up (loading the scenario); nothing written" "$work/err"
+  check "SIG$sig in start-up wrote nothing" test ! -e "$work/early_$sig"
+  check "SIG$sig in start-up ran no simulation" test ! -s "$work/out"
+  check "SIG$sig in start-up stopped at once (took ${ms} ms)" test "$ms" -lt 5000
+done
 
 echo "cli: $passes passed, $fails failed"
 test "$fails" -eq 0

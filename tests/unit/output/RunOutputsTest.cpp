@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
 #include <sstream>
@@ -243,6 +245,172 @@ TEST_F(RunOutputsTest, NonFiniteSamplesDoNotBreakThePlots) {
   std::string error;
   ASSERT_TRUE(write_run_outputs(dir_.string(), sc, rows, {}, s, error)) << error;
   EXPECT_NE(read_all(dir_ / "summary.json").find("\"progress\": null"), std::string::npos);
+}
+
+// The four outputs of a small run; `variant` changes every file's content.
+struct SmallRun {
+  explicit SmallRun(int variant) {
+    for (int i = 0; i <= 50; ++i) {
+      TrajectoryRow r;
+      r.t = 0.02 * i;
+      r.x = 0.01 * i * (1 + variant);
+      r.y = 0.1 * variant;
+      r.vx = 0.3 + 0.1 * variant;
+      r.wz = 0.05 * variant;
+      r.state = "FOLLOW";
+      rows.push_back(r);
+    }
+    summary.scenario = "demo";
+    summary.result = variant == 0 ? "time_limit" : "end_reached";
+    summary.ticks = 50 + variant;
+  }
+  bool write(const fs::path& dir, std::string& error) const {
+    return write_run_outputs(dir.string(), demo_scenario(), rows, {}, summary, error);
+  }
+  std::vector<TrajectoryRow> rows;
+  RunSummary summary;
+};
+
+const std::vector<std::string> kFour = {"trajectory.csv", "trajectory.png", "velocities.png",
+                                        "summary.json"};
+
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    files[e.path().filename().string()] = read_all(e.path());
+  }
+  return files;
+}
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class OutputSetTest : public RunOutputsTest {
+ protected:
+  void TearDown() override {
+    set_output_fault_for_test("");
+    RunOutputsTest::TearDown();
+  }
+  fs::path out() const { return dir_ / "out"; }
+};
+
+TEST_F(OutputSetTest, SuccessfulWriteReplacesAllFour) {
+  std::string error;
+  ASSERT_TRUE(SmallRun(0).write(out(), error)) << error;
+  const auto first = snapshot(out());
+  const SmallRun second_run(1);
+  ASSERT_TRUE(second_run.write(out(), error)) << error;
+  const auto second = snapshot(out());
+  ASSERT_EQ(second.size(), 4u);
+  for (const std::string& f : kFour) {
+    ASSERT_EQ(second.count(f), 1u) << f;
+    EXPECT_NE(second.at(f), first.at(f)) << f << " was not replaced";
+  }
+  EXPECT_EQ(second.at("trajectory.csv"), trajectory_to_csv(second_run.rows));
+  EXPECT_EQ(second.at("summary.json"), summary_to_json(second_run.summary));
+  // Nothing left beside it: no staging or set-aside directory.
+  EXPECT_EQ(names_in(dir_), std::vector<std::string>{"out"});
+}
+
+TEST_F(OutputSetTest, FallbackWithoutRenameExchangeReplacesAllFour) {
+  std::string error;
+  ASSERT_TRUE(SmallRun(0).write(out(), error)) << error;
+  const auto first = snapshot(out());
+  set_output_fault_for_test("no_exchange");
+  const SmallRun second_run(1);
+  ASSERT_TRUE(second_run.write(out(), error)) << error;
+  const auto second = snapshot(out());
+  ASSERT_EQ(second.size(), 4u);
+  for (const std::string& f : kFour) EXPECT_NE(second.at(f), first.at(f)) << f;
+  EXPECT_EQ(second.at("trajectory.csv"), trajectory_to_csv(second_run.rows));
+  EXPECT_EQ(names_in(dir_), std::vector<std::string>{"out"});
+}
+
+TEST_F(OutputSetTest, FailureAtAnyStepLeavesTheOldSetByteIdentical) {
+  std::string error;
+  ASSERT_TRUE(SmallRun(0).write(out(), error)) << error;
+  const auto before = snapshot(out());
+  ASSERT_EQ(before.size(), 4u);
+  for (const char* step :
+       {"trajectory.csv", "trajectory.png", "velocities.png", "summary.json", "swap"}) {
+    set_output_fault_for_test(step);
+    error.clear();
+    EXPECT_FALSE(SmallRun(1).write(out(), error)) << step;
+    EXPECT_NE(error.find("injected failure"), std::string::npos) << step << ": " << error;
+    EXPECT_EQ(snapshot(out()), before) << "after a failure at " << step;
+    EXPECT_EQ(names_in(dir_), std::vector<std::string>{"out"}) << "staging left after " << step;
+  }
+}
+
+TEST_F(OutputSetTest, FailedFirstWriteCreatesNothing) {
+  set_output_fault_for_test("summary.json");
+  std::string error;
+  EXPECT_FALSE(SmallRun(0).write(out(), error));
+  EXPECT_TRUE(names_in(dir_).empty());
+}
+
+TEST_F(OutputSetTest, RefusesADirectoryWithOtherFiles) {
+  std::string error;
+  ASSERT_TRUE(SmallRun(0).write(out(), error)) << error;
+  std::ofstream(out() / "notes.txt") << "mine";
+  const auto before = snapshot(out());
+  EXPECT_FALSE(prepare_output_dir(out().string(), error));
+  EXPECT_NE(error.find("notes.txt"), std::string::npos) << error;
+  EXPECT_NE(error.find(out().string()), std::string::npos) << error;
+  error.clear();
+  EXPECT_FALSE(SmallRun(1).write(out(), error));
+  EXPECT_NE(error.find("notes.txt"), std::string::npos) << error;
+  EXPECT_EQ(snapshot(out()), before);
+  EXPECT_EQ(names_in(dir_), std::vector<std::string>{"out"});
+
+  // A subdirectory, even one named like an output, is not a previous run's.
+  const fs::path other = dir_ / "other";
+  fs::create_directories(other / "trajectory.csv");
+  EXPECT_FALSE(prepare_output_dir(other.string(), error));
+  EXPECT_TRUE(fs::is_directory(other / "trajectory.csv"));
+
+  // A regular file where the directory should be.
+  std::ofstream(dir_ / "file") << "x";
+  EXPECT_FALSE(prepare_output_dir((dir_ / "file").string(), error));
+  EXPECT_NE(error.find("not a directory"), std::string::npos) << error;
+}
+
+TEST_F(OutputSetTest, AcceptsEmptyDirectoriesAndStaleLeftovers) {
+  std::string error;
+  fs::create_directories(out());
+  EXPECT_TRUE(prepare_output_dir(out().string(), error)) << error;
+  // A per-file temporary of an interrupted older write, and a staging directory of a dead run.
+  std::ofstream(out() / "summary.json.tmp.12345") << "{";
+  const fs::path stale = dir_ / ".out.tmp.999999999";
+  fs::create_directories(stale);
+  std::ofstream(stale / "trajectory.csv") << "t\n";
+  EXPECT_TRUE(prepare_output_dir((out().string() + "/"), error)) << error;
+  EXPECT_FALSE(fs::exists(stale));
+  ASSERT_TRUE(SmallRun(0).write(out(), error)) << error;
+  EXPECT_EQ(names_in(out()), (std::vector<std::string>{"summary.json", "trajectory.csv",
+                                                       "trajectory.png", "velocities.png"}));
+  EXPECT_EQ(names_in(dir_), std::vector<std::string>{"out"});
+}
+
+TEST_F(OutputSetTest, PrepareCreatesParentsAndLeavesNoTrace) {
+  std::string error;
+  const fs::path deep = dir_ / "a" / "b" / "run";
+  EXPECT_TRUE(prepare_output_dir(deep.string(), error)) << error;
+  EXPECT_TRUE(fs::is_directory(dir_ / "a" / "b"));
+  EXPECT_TRUE(names_in(dir_ / "a" / "b").empty());
+}
+
+TEST_F(OutputSetTest, PrepareNamesPathAndReasonOnFailure) {
+  std::ofstream(dir_ / "file") << "x";
+  std::string error;
+  const fs::path under_file = dir_ / "file" / "sub" / "run";
+  EXPECT_FALSE(prepare_output_dir(under_file.string(), error));
+  EXPECT_NE(error.find((dir_ / "file").string()), std::string::npos) << error;
+  EXPECT_NE(error.find("Not a directory"), std::string::npos) << error;
 }
 
 }  // namespace
