@@ -347,8 +347,8 @@ TerrainSpec parse_terrain(const Node& m) {
 }
 
 ExpectSpec parse_expect(const Node& m) {
-  m.expect_map(
-      {"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress", "min_laps"});
+  m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
+                "min_laps", "max_end_stop_error_m"});
   ExpectSpec e;
   if (auto n = m.get("end_reached")) e.end_reached = n->boolean();
   if (auto n = m.get("max_collisions")) e.max_collisions = static_cast<int>(n->integer(0, 1000000));
@@ -357,6 +357,9 @@ ExpectSpec parse_expect(const Node& m) {
   }
   if (auto n = m.get("min_progress")) e.min_progress = n->number(Range::closed(0.0, 1.0));
   if (auto n = m.get("min_laps")) e.min_laps = static_cast<int>(n->integer(0, 1000000));
+  if (auto n = m.get("max_end_stop_error_m")) {
+    e.max_end_stop_error_m = n->number(Range::positive());
+  }
   return e;
 }
 
