@@ -126,8 +126,10 @@ struct ExpectSpec {
   std::optional<double> max_cross_track_rms_m;
   std::optional<double> min_progress;
   std::optional<int> min_laps;
+  std::optional<double> max_end_stop_error_m;  // [m]
   bool any() const {
-    return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps;
+    return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps ||
+           max_end_stop_error_m;
   }
 };
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <numbers>
 
+#include "host_sim/scenario/ColorCheck.hpp"
 #include "host_sim/scenario/StrictYaml.hpp"
 
 #ifndef CARRIL_SOURCE_DIR
@@ -19,15 +20,36 @@ using strict::LoadError;
 using strict::Node;
 using strict::Range;
 
-// Bounds that keep every later computation (geometry, physics, rendering) far from overflow.
+// Physical bounds: every accepted value gives a finite, non-degenerate simulation (no inf/NaN in
+// geometry, rendering or physics, no Box2D assertion). docs/scenario-format.md lists them all.
 const Range kCoord = Range::closed(-1.0e4, 1.0e4);  // world coordinates [m]
 const Range kYawDeg = Range::closed(-360.0, 360.0);
-const Range kMount = Range::closed(-10.0, 10.0);  // sensor mount offsets [m]
-const Range kSize = Range::open_closed(0.0, 100.0);
+const Range kMount = Range::closed(-5.0, 5.0);      // sensor mount offsets [m]
+const Range kSize = Range::closed(0.01, 100.0);     // obstacle and terrain sizes [m]
+const Range kWheelSize = Range::closed(0.05, 5.0);  // wheelbase, track [m]
 
 constexpr double kArcStepM = 0.02;  // max spacing of discretised arc points [m]
 constexpr double kMaxArcSweepDeg = 3600.0;
 constexpr std::size_t kMaxNameLength = 64;
+
+// Derived camera rules: the top image row looks at least this far below the horizon, and the
+// optical axis meets the floor within this distance.
+constexpr double kMinTopRowDepressionDeg = 1.0;
+constexpr double kMaxCentreRayDistanceM = 20.0;
+
+// Tape geometry: a line at least this long; consecutive points at least this far apart.
+constexpr double kMinLineLengthM = 0.01;
+constexpr double kMinSegmentM = 0.001;
+
+// Size limits, checked before anything is expanded or iterated (YAML aliases make a small file
+// into a huge tree). Generous for a real factory floor.
+constexpr std::size_t kMaxTapePoints = 20000;  // all lines, after arc discretisation
+constexpr std::size_t kMaxLines = 256;
+constexpr std::size_t kMaxMarks = 64;
+constexpr std::size_t kMaxObstacles = 256;
+constexpr std::size_t kMaxWalls = 256;
+constexpr std::size_t kMaxWallPoints = 4096;  // all walls
+constexpr std::size_t kMaxTerrain = 256;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -75,9 +97,14 @@ Vec2 parse_point(const Node& n) {
   return {xy[0].number(kCoord), xy[1].number(kCoord)};
 }
 
-std::vector<Vec2> parse_points(const Node& n) {
+// A list of at least 2 points, of which there may be no more than `budget` (what is left of a
+// total limit, described by `limit_what`); the size is checked before any item is read.
+std::vector<Vec2> parse_points(const Node& n, std::size_t& budget, const std::string& limit_what) {
+  if (!n.yaml().IsSequence()) n.expected("a list");
+  if (n.yaml().size() > budget) n.expected(limit_what, "more");
   std::vector<Vec2> out;
   for (const Node& p : n.items(2)) out.push_back(parse_point(p));
+  budget -= out.size();
   return out;
 }
 
@@ -88,14 +115,42 @@ void parse_camera(const Node& m, CameraSpec& c, bool all) {
       {"x_m", "y_m", "z_m", "tilt_deg", "hfov_deg", "width", "height", "rate_hz", "noise_std"});
   if (auto n = m.get("x_m", all)) c.x_m = n->number(kMount);
   if (auto n = m.get("y_m", all)) c.y_m = n->number(kMount);
-  if (auto n = m.get("z_m", all)) c.z_m = n->number(Range::open_closed(0.0, 10.0));
-  if (auto n = m.get("tilt_deg", all)) c.tilt_deg = n->number(Range::open_closed(0.0, 90.0));
-  if (auto n = m.get("hfov_deg", all)) c.hfov_deg = n->number(Range::open(10.0, 170.0));
+  if (auto n = m.get("z_m", all)) c.z_m = n->number(Range::closed(0.05, 5.0));
+  if (auto n = m.get("tilt_deg", all)) c.tilt_deg = n->number(Range::closed(5.0, 90.0));
+  if (auto n = m.get("hfov_deg", all)) c.hfov_deg = n->number(Range::closed(20.0, 150.0));
   // The firmware's image buffer is fixed at hal::kMaxImageWidth x kMaxImageHeight.
   if (auto n = m.get("width", all)) c.width = static_cast<int>(n->integer(32, 1280));
   if (auto n = m.get("height", all)) c.height = static_cast<int>(n->integer(32, 960));
-  if (auto n = m.get("rate_hz", all)) c.rate_hz = n->number(Range::open_closed(0.0, 1000.0));
-  if (auto n = m.get("noise_std", all)) c.noise_std = n->number(Range::closed(0.0, 255.0));
+  if (auto n = m.get("rate_hz", all)) c.rate_hz = n->number(Range::closed(1.0, 240.0));
+  if (auto n = m.get("noise_std", all)) c.noise_std = n->number(Range::closed(0.0, 100.0));
+}
+
+// The camera must see the floor: the top image row looks below the horizon (else part of the
+// image has no floor and the homography's inverse degenerates) and the image centre meets the
+// floor at a sane distance. `where` is the camera block that set the values.
+void check_camera_view(const Node& where, const CameraSpec& c) {
+  const double half_vfov_deg =
+      std::atan((c.height / 2.0) / ((c.width / 2.0) / std::tan(deg2rad(c.hfov_deg / 2.0)))) *
+      180.0 / std::numbers::pi;
+  const double top_row_deg = c.tilt_deg - half_vfov_deg;
+  if (top_row_deg < kMinTopRowDepressionDeg) {
+    where.child_path("tilt_deg")
+        .expected("a tilt at least " + strict::format_number(kMinTopRowDepressionDeg) +
+                      " deg more than half the vertical field of view (" +
+                      strict::format_number(half_vfov_deg) + " deg from hfov_deg " +
+                      strict::format_number(c.hfov_deg) + ", " + std::to_string(c.width) + "x" +
+                      std::to_string(c.height) + "), so the whole image sees the floor",
+                  strict::format_number(c.tilt_deg));
+  }
+  const double centre_m = c.z_m / std::tan(deg2rad(c.tilt_deg));
+  if (centre_m > kMaxCentreRayDistanceM) {
+    where.child_path("tilt_deg")
+        .expected("a tilt whose image centre meets the floor within " +
+                      strict::format_number(kMaxCentreRayDistanceM) + " m (z_m " +
+                      strict::format_number(c.z_m) +
+                      " / tan(tilt_deg) = " + strict::format_number(centre_m) + " m)",
+                  strict::format_number(c.tilt_deg));
+  }
 }
 
 void parse_lidar(const Node& m, LidarSpec& l, bool all) {
@@ -104,38 +159,37 @@ void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   if (auto n = m.get("x_m", all)) l.x_m = n->number(kMount);
   if (auto n = m.get("y_m", all)) l.y_m = n->number(kMount);
   if (auto n = m.get("yaw_deg", all)) l.yaw_deg = n->number(kYawDeg);
-  if (auto n = m.get("fov_deg", all)) l.fov_deg = n->number(Range::open_closed(0.0, 360.0));
+  if (auto n = m.get("fov_deg", all)) l.fov_deg = n->number(Range::closed(1.0, 360.0));
   // hal::kMaxScanBeams.
   if (auto n = m.get("beams", all)) l.beams = static_cast<int>(n->integer(2, 2048));
   const auto max_n = m.get("range_max_m", all);
   const auto min_n = m.get("range_min_m", all);
-  if (max_n) l.range_max_m = max_n->number(Range::open_closed(0.0, 1000.0));
+  if (max_n) l.range_max_m = max_n->number(Range::closed(0.5, 100.0));
   if (min_n) {
-    l.range_min_m = min_n->number(Range::non_negative());
+    l.range_min_m = min_n->number(Range::closed(0.0, 10.0));
     if (l.range_min_m >= l.range_max_m) {
       min_n->expected("a number in [0, range_max_m = " + strict::format_number(l.range_max_m) + ")",
                       min_n->raw());
     }
   } else if (max_n && l.range_max_m <= l.range_min_m) {
-    max_n->expected(
-        "a number in (range_min_m = " + strict::format_number(l.range_min_m) + ", 1000]",
-        max_n->raw());
+    max_n->expected("a number in (range_min_m = " + strict::format_number(l.range_min_m) + ", 100]",
+                    max_n->raw());
   }
-  if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::open_closed(0.0, 1000.0));
-  if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 10.0));
+  if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
+  if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));
 }
 
 void parse_limits(const Node& m, LimitsSpec& l, bool all) {
   m.expect_map({"max_speed_mps", "max_yaw_rate_radps", "max_accel_mps2", "max_wheel_speed_radps",
                 "max_wheel_accel_radps2"});
-  auto pos = [&](const char* key, double hi, double& out) {
-    if (auto n = m.get(key, all)) out = n->number(Range::open_closed(0.0, hi));
+  auto get = [&](const char* key, double lo, double hi, double& out) {
+    if (auto n = m.get(key, all)) out = n->number(Range::closed(lo, hi));
   };
-  pos("max_speed_mps", 20.0, l.max_speed_mps);
-  pos("max_yaw_rate_radps", 20.0, l.max_yaw_rate_radps);
-  pos("max_accel_mps2", 50.0, l.max_accel_mps2);
-  pos("max_wheel_speed_radps", 1000.0, l.max_wheel_speed_radps);
-  pos("max_wheel_accel_radps2", 10000.0, l.max_wheel_accel_radps2);
+  get("max_speed_mps", 0.05, 5.0, l.max_speed_mps);
+  get("max_yaw_rate_radps", 0.05, 10.0, l.max_yaw_rate_radps);
+  get("max_accel_mps2", 0.05, 20.0, l.max_accel_mps2);
+  get("max_wheel_speed_radps", 0.5, 500.0, l.max_wheel_speed_radps);
+  get("max_wheel_accel_radps2", 0.5, 5000.0, l.max_wheel_accel_radps2);
 }
 
 RobotSpec parse_preset(const Node& root) {
@@ -148,26 +202,33 @@ RobotSpec parse_preset(const Node& root) {
                 : DriveType::Differential;
   const Node body = root.at("body");
   body.expect_map({"length_m", "width_m", "mass_kg"});
-  r.length_m = body.at("length_m").number(Range::open_closed(0.0, 10.0));
-  r.width_m = body.at("width_m").number(Range::open_closed(0.0, 10.0));
-  r.mass_kg = body.at("mass_kg").number(Range::open_closed(0.0, 10000.0));
+  r.length_m = body.at("length_m").number(Range::closed(0.1, 5.0));
+  r.width_m = body.at("width_m").number(Range::closed(0.1, 5.0));
+  r.mass_kg = body.at("mass_kg").number(Range::closed(1.0, 5000.0));
   const Node wheels = root.at("wheels");
   wheels.expect_map({"radius_m", "wheelbase_m", "track_m"});
-  r.wheel_radius_m = wheels.at("radius_m").number(Range::open_closed(0.0, 2.0));
-  r.wheelbase_m = wheels.at("wheelbase_m").number(Range::open_closed(0.0, 10.0));
-  r.track_m = wheels.at("track_m").number(Range::open_closed(0.0, 10.0));
+  r.wheel_radius_m = wheels.at("radius_m").number(Range::closed(0.01, 1.0));
+  r.wheelbase_m = wheels.at("wheelbase_m").number(kWheelSize);
+  r.track_m = wheels.at("track_m").number(kWheelSize);
   r.control_rate_hz = root.at("control_rate_hz").number(Range::closed(10.0, 1000.0));
-  parse_camera(root.at("camera"), r.camera, true);
+  const Node camera = root.at("camera");
+  parse_camera(camera, r.camera, true);
+  check_camera_view(camera, r.camera);
   parse_lidar(root.at("lidar"), r.lidar, true);
   parse_limits(root.at("limits"), r.limits, true);
   const Node cruise = root.at("cruise_speed_mps");
-  r.cruise_speed_mps = cruise.number(Range::positive());
+  r.cruise_speed_mps = cruise.number(Range::closed(0.01, 5.0));
   if (r.cruise_speed_mps > r.limits.max_speed_mps) {
     cruise.expected("a number in (0, limits.max_speed_mps = " +
                         strict::format_number(r.limits.max_speed_mps) + "]",
                     cruise.raw());
   }
   return r;
+}
+
+// The fastest the wheels can carry the body: wheel radius x wheel speed limit.
+double wheel_speed_limit_mps(const RobotSpec& r) {
+  return r.wheel_radius_m * r.limits.max_wheel_speed_radps;
 }
 
 RobotSpec read_preset_file(const std::string& path) {
@@ -196,7 +257,10 @@ void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot)
                    deg2rad(s->at("yaw_deg").number(kYawDeg))};
   }
   // Overrides: same schema and checks as the preset, every key optional.
-  if (auto n = m.get("camera")) parse_camera(*n, robot.camera, false);
+  if (auto n = m.get("camera")) {
+    parse_camera(*n, robot.camera, false);
+    check_camera_view(*n, robot.camera);
+  }
   if (auto n = m.get("lidar")) parse_lidar(*n, robot.lidar, false);
   if (auto n = m.get("limits")) parse_limits(*n, robot.limits, false);
 }
@@ -224,9 +288,10 @@ void parse_mission(const Node& m, const RobotSpec& robot, MissionSpec& mission) 
   const double max_speed = robot.limits.max_speed_mps;
   const std::string speed_range =
       "a number in (0, robot.limits.max_speed_mps = " + strict::format_number(max_speed) + "]";
-  if (auto n = m.get("speed_mps")) {
-    mission.speed_mps = n->number(Range::positive());
-    if (mission.speed_mps > max_speed) n->expected(speed_range, n->raw());
+  std::optional<Node> speed_node = m.get("speed_mps");
+  if (speed_node) {
+    mission.speed_mps = speed_node->number(Range::closed(0.01, 5.0));
+    if (mission.speed_mps > max_speed) speed_node->expected(speed_range, speed_node->raw());
   } else {
     // The preset's cruise speed is only a default: an override lowering the limit below it
     // needs an explicit speed rather than a silent clamp.
@@ -237,6 +302,18 @@ void parse_mission(const Node& m, const RobotSpec& robot, MissionSpec& mission) 
                     "nothing");
     }
     mission.speed_mps = robot.cruise_speed_mps;
+  }
+  // The wheels must be able to reach the mission speed.
+  const double wheel_max = wheel_speed_limit_mps(robot);
+  if (mission.speed_mps > wheel_max) {
+    const Node where = speed_node ? *speed_node : m.child_path("speed_mps");
+    where.expected("a speed the wheels can reach, at most wheels.radius_m " +
+                       strict::format_number(robot.wheel_radius_m) +
+                       " x limits.max_wheel_speed_radps " +
+                       strict::format_number(robot.limits.max_wheel_speed_radps) + " = " +
+                       strict::format_number(wheel_max) + " m/s",
+                   speed_node ? speed_node->raw()
+                              : strict::format_number(mission.speed_mps) + " (the preset's)");
   }
 }
 
@@ -256,22 +333,51 @@ std::vector<Vec2> discretise_arc(Vec2 c, double r, double start_deg, double end_
   return pts;
 }
 
-LineSpec parse_line(const Node& m) {
+const std::string kTapeLimit =
+    "at most " + std::to_string(kMaxTapePoints) + " tape points in all lines (the limit)";
+
+// Total length of a polyline.
+double polyline_length(const std::vector<Vec2>& pts) {
+  double len = 0.0;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    len += std::hypot(pts[i + 1].x - pts[i].x, pts[i + 1].y - pts[i].y);
+  }
+  return len;
+}
+
+// `budget`: tape points still allowed in this file.
+LineSpec parse_line(const Node& m, std::size_t& budget) {
   m.expect_map({"color", "width_m", "points", "arc"});
   LineSpec line;
   line.color = parse_color(m.at("color"));
-  if (auto n = m.get("width_m")) line.width_m = n->number(Range::open_closed(0.0, 0.5));
+  if (auto n = m.get("width_m")) line.width_m = n->number(Range::closed(0.005, 0.5));
   const auto points = m.get("points");
   const auto arc = m.get("arc");
   if (points && arc) m.expected("exactly one of points or arc", "both");
   if (!points && !arc) m.expected("exactly one of points or arc", "neither");
   if (points) {
-    line.points = parse_points(*points);
+    line.points = parse_points(*points, budget, kTapeLimit);
+    const auto items = points->items();
+    for (std::size_t i = 0; i + 1 < line.points.size(); ++i) {
+      const Vec2 a = line.points[i], b = line.points[i + 1];
+      const double d = std::hypot(b.x - a.x, b.y - a.y);
+      if (d < kMinSegmentM) {
+        items[i + 1].expected(
+            "a point at least 1 mm from the previous one (a zero-length tape "
+            "segment), " +
+                strict::format_number(d) + " m away",
+            "[" + strict::format_number(b.x) + ", " + strict::format_number(b.y) + "]");
+      }
+    }
+    const double len = polyline_length(line.points);
+    if (len < kMinLineLengthM) {
+      points->expected("a tape at least 0.01 m long", strict::format_number(len) + " m");
+    }
     return line;
   }
   arc->expect_map({"center", "radius_m", "start_deg", "end_deg"});
   const Vec2 center = parse_point(arc->at("center"));
-  const double radius = arc->at("radius_m").number(Range::open_closed(0.0, 100.0));
+  const double radius = arc->at("radius_m").number(Range::closed(0.05, 100.0));
   const double start = arc->at("start_deg").number(Range::closed(-3600.0, 3600.0));
   const Node end_n = arc->at("end_deg");
   const double end = end_n.number(Range::closed(-3600.0, 3600.0));
@@ -281,7 +387,16 @@ LineSpec parse_line(const Node& m) {
                        strict::format_number(start) + ")",
                    end_n.raw());
   }
+  const double arc_len = deg2rad(sweep) * radius;
+  if (arc_len < kMinLineLengthM) {
+    end_n.expected("an arc at least 0.01 m long (radius_m x |end_deg - start_deg|)",
+                   strict::format_number(arc_len) + " m");
+  }
+  // The point count is known before discretising: refuse it first.
+  const double n_points = std::ceil(arc_len / kArcStepM) + 1.0;
+  if (n_points > static_cast<double>(budget)) arc->expected(kTapeLimit, "more");
   line.points = discretise_arc(center, radius, start, end);
+  budget -= line.points.size();
   line.from_arc = true;
   return line;
 }
@@ -291,7 +406,7 @@ MarkSpec parse_mark(const Node& m) {
   MarkSpec mark;
   mark.color = parse_color(m.at("color"));
   mark.center = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
-  if (auto n = m.get("radius_m")) mark.radius_m = n->number(Range::open_closed(0.0, 2.0));
+  if (auto n = m.get("radius_m")) mark.radius_m = n->number(Range::closed(0.01, 2.0));
   return mark;
 }
 
@@ -313,17 +428,20 @@ ObstacleSpec parse_obstacle(const Node& m) {
   } else {
     m.expect_map({"shape", "x", "y", "radius_m"});
     o.shape = ObstacleShape::Cylinder;
-    o.radius_m = m.at("radius_m").number(Range::open_closed(0.0, 50.0));
+    o.radius_m = m.at("radius_m").number(Range::closed(0.01, 50.0));
   }
   o.center = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
   return o;
 }
 
-WallSpec parse_wall(const Node& m) {
+const std::string kWallPointLimit =
+    "at most " + std::to_string(kMaxWallPoints) + " wall points in all walls (the limit)";
+
+WallSpec parse_wall(const Node& m, std::size_t& budget) {
   m.expect_map({"points", "thickness_m"});
   WallSpec w;
-  w.points = parse_points(m.at("points"));
-  if (auto n = m.get("thickness_m")) w.thickness_m = n->number(Range::open_closed(0.0, 10.0));
+  w.points = parse_points(m.at("points"), budget, kWallPointLimit);
+  if (auto n = m.get("thickness_m")) w.thickness_m = n->number(Range::closed(0.01, 10.0));
   return w;
 }
 
@@ -333,11 +451,11 @@ TerrainSpec parse_terrain(const Node& m) {
   if (type == "ramp") {
     m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "angle_deg"});
     t.type = TerrainType::Ramp;
-    t.angle_deg = m.at("angle_deg").number(Range::open(0.0, 45.0));
+    t.angle_deg = m.at("angle_deg").number(Range::closed(0.5, 30.0));
   } else {
     m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "height_m"});
     t.type = TerrainType::Step;
-    t.height_m = m.at("height_m").number(Range::open_closed(0.0, 1.0));
+    t.height_m = m.at("height_m").number(Range::closed(0.005, 0.5));
   }
   t.center = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
   if (auto n = m.get("yaw_deg")) t.yaw_rad = deg2rad(n->number(kYawDeg));
@@ -347,25 +465,149 @@ TerrainSpec parse_terrain(const Node& m) {
 }
 
 ExpectSpec parse_expect(const Node& m) {
-  m.expect_map(
-      {"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress", "min_laps"});
+  m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
+                "min_laps", "max_end_stop_error_m"});
   ExpectSpec e;
   if (auto n = m.get("end_reached")) e.end_reached = n->boolean();
   if (auto n = m.get("max_collisions")) e.max_collisions = static_cast<int>(n->integer(0, 1000000));
   if (auto n = m.get("max_cross_track_rms_m")) {
-    e.max_cross_track_rms_m = n->number(Range::positive());
+    e.max_cross_track_rms_m = n->number(Range::open_closed(0.0, 10.0));
   }
   if (auto n = m.get("min_progress")) e.min_progress = n->number(Range::closed(0.0, 1.0));
   if (auto n = m.get("min_laps")) e.min_laps = static_cast<int>(n->integer(0, 1000000));
+  if (auto n = m.get("max_end_stop_error_m")) {
+    e.max_end_stop_error_m = n->number(Range::open_closed(0.0, 10.0));
+  }
   return e;
 }
 
+// A list of at most `max_items` (checked before any item is read), each read by parse_item.
 template <typename T, typename F>
-std::vector<T> parse_list(const std::optional<Node>& n, F parse_item) {
+std::vector<T> parse_list(const std::optional<Node>& n, std::size_t max_items, const char* what,
+                          F parse_item) {
   std::vector<T> out;
   if (!n) return out;
+  if (!n->yaml().IsSequence()) n->expected("a list");
+  if (n->yaml().size() > max_items) {
+    n->expected("at most " + std::to_string(max_items) + " " + what + " (the limit)",
+                "a list of " + std::to_string(n->yaml().size()));
+  }
   for (const Node& item : n->items()) out.push_back(parse_item(item));
   return out;
+}
+
+// ---- Cross-section checks ----
+
+// An oriented rectangle: centre, heading, half extents.
+struct Obb {
+  Vec2 c;
+  double yaw = 0.0, hx = 0.0, hy = 0.0;
+};
+
+// Strict overlap (touching is not overlap), by the separating axis test.
+bool overlaps(const Obb& a, const Obb& b) {
+  const double dx = b.c.x - a.c.x, dy = b.c.y - a.c.y;
+  const Obb* boxes[2] = {&a, &b};
+  for (const Obb* axis_box : boxes) {
+    for (int k = 0; k < 2; ++k) {
+      const double ang = axis_box->yaw + (k == 0 ? 0.0 : std::numbers::pi / 2);
+      const double ax = std::cos(ang), ay = std::sin(ang);
+      double reach = 0.0;
+      for (const Obb* o : boxes) {
+        const double co = std::cos(o->yaw), si = std::sin(o->yaw);
+        reach += o->hx * std::abs(co * ax + si * ay) + o->hy * std::abs(-si * ax + co * ay);
+      }
+      if (std::abs(dx * ax + dy * ay) >= reach) return false;
+    }
+  }
+  return true;
+}
+
+bool overlaps(const Obb& a, Vec2 centre, double radius) {
+  const double co = std::cos(a.yaw), si = std::sin(a.yaw);
+  const double dx = centre.x - a.c.x, dy = centre.y - a.c.y;
+  const double lx = co * dx + si * dy, ly = -si * dx + co * dy;
+  const double qx = lx - std::clamp(lx, -a.hx, a.hx), qy = ly - std::clamp(ly, -a.hy, a.hy);
+  return std::hypot(qx, qy) < radius;
+}
+
+// The robot must not start inside an obstacle or a wall (as SimWorld builds them: each wall
+// segment a box of its length plus the thickness, thickness wide).
+void check_start_clear(const Node& root, const Scenario& s) {
+  const RobotSpec& r = s.robot;
+  const Obb robot{{r.start.x, r.start.y}, r.start.yaw_rad, r.length_m / 2, r.width_m / 2};
+  const Node robot_n = root.at("robot");
+  const auto start = robot_n.get("start");
+  const Node where = start ? *start : robot_n.child_path("start");
+  const std::string what = "a start pose whose " + r.preset + " footprint (" +
+                           strict::format_number(r.length_m) + " x " +
+                           strict::format_number(r.width_m) + " m) is clear of ";
+  const std::string got = "x " + strict::format_number(r.start.x) + ", y " +
+                          strict::format_number(r.start.y) + ", yaw_deg " +
+                          strict::format_number(r.start.yaw_rad * 180.0 / std::numbers::pi);
+  for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
+    const ObstacleSpec& o = s.obstacles[i];
+    const bool hit = o.shape == ObstacleShape::Box
+                         ? overlaps(robot, Obb{o.center, o.yaw_rad, o.size_x_m / 2, o.size_y_m / 2})
+                         : overlaps(robot, o.center, o.radius_m);
+    if (hit) {
+      where.expected(what + "obstacles", got + " (overlaps obstacles[" + std::to_string(i) + "])");
+    }
+  }
+  for (std::size_t i = 0; i < s.walls.size(); ++i) {
+    const WallSpec& w = s.walls[i];
+    for (std::size_t j = 0; j + 1 < w.points.size(); ++j) {
+      const Vec2 a = w.points[j], b = w.points[j + 1];
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      if (len < 1e-6) continue;  // SimWorld builds nothing for it
+      const Obb seg{{(a.x + b.x) / 2, (a.y + b.y) / 2},
+                    std::atan2(b.y - a.y, b.x - a.x),
+                    len / 2 + w.thickness_m / 2,
+                    w.thickness_m / 2};
+      if (overlaps(robot, seg)) {
+        where.expected(what + "walls", got + " (overlaps walls[" + std::to_string(i) +
+                                           "], segment " + std::to_string(j) + ")");
+      }
+    }
+  }
+}
+
+std::string rgb_text(Rgb c) {
+  return "[" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + "]";
+}
+
+// The detector must tell the tape and the end mark from the floor, and from each other.
+void check_colours(const Node& root, const Scenario& s) {
+  const Node mission = root.at("mission");
+  const MissionSpec& m = s.mission;
+  const fw::ColorThreshold line_t = detector_threshold(m.line_color_name, m.line_color);
+  const fw::ColorThreshold end_t = detector_threshold(m.end_color_name, m.end_color);
+  const std::string floor_text = "floor.color " + rgb_text(s.floor);
+  auto floor_check = [&](const fw::ColorThreshold& t, const char* key, const std::string& name) {
+    Rgb shade;
+    double k = 1.0;
+    if (!floor_shade_in(t, s.floor, shade, k)) return;
+    const auto n = mission.get(key);
+    const Node where = n ? *n : mission.child_path(key);
+    where.expected("a colour the detector tells from " + floor_text + " (its shade x" +
+                       strict::format_number(k) + " = " + rgb_text(shade) + " is inside the " +
+                       name + " window)",
+                   name);
+  };
+  floor_check(line_t, "line_color", m.line_color_name);
+  floor_check(end_t, "end_color", m.end_color_name);
+  const bool line_as_end = detector_sees(end_t, m.line_color);
+  const bool end_as_line = detector_sees(line_t, m.end_color);
+  if (line_as_end || end_as_line) {
+    const auto n = mission.get("end_color");
+    const Node where = n ? *n : mission.child_path("end_color");
+    where.expected("an end colour the detector tells from mission.line_color " + m.line_color_name +
+                       " (" +
+                       (line_as_end ? "the tape falls in the end window"
+                                    : "the end colour falls in the tape window") +
+                       ")",
+                   m.end_color_name);
+  }
 }
 
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
@@ -375,7 +617,7 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   s.source_path = path;
   s.name = parse_name(root.at("name"));
   if (auto n = root.get("description")) s.description = n->string();
-  s.duration_s = root.at("duration_s").number(Range::open_closed(0.0, 86400.0));
+  s.duration_s = root.at("duration_s").number(Range::closed(0.1, 86400.0));
   if (auto n = root.get("seed")) s.seed = n->unsigned_integer();
   if (auto n = root.get("floor")) {
     n->expect_map({"color"});
@@ -384,11 +626,17 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   parse_robot(root.at("robot"), robots_dir, s.robot);
   parse_mission(root.at("mission"), s.robot, s.mission);
   const auto lines = root.get("lines");
-  s.lines = parse_list<LineSpec>(lines, parse_line);
-  s.marks = parse_list<MarkSpec>(root.get("marks"), parse_mark);
-  s.obstacles = parse_list<ObstacleSpec>(root.get("obstacles"), parse_obstacle);
-  s.walls = parse_list<WallSpec>(root.get("walls"), parse_wall);
-  s.terrain = parse_list<TerrainSpec>(root.get("terrain"), parse_terrain);
+  std::size_t tape_budget = kMaxTapePoints;
+  s.lines = parse_list<LineSpec>(lines, kMaxLines, "lines",
+                                 [&](const Node& n) { return parse_line(n, tape_budget); });
+  s.marks = parse_list<MarkSpec>(root.get("marks"), kMaxMarks, "marks", parse_mark);
+  s.obstacles =
+      parse_list<ObstacleSpec>(root.get("obstacles"), kMaxObstacles, "obstacles", parse_obstacle);
+  std::size_t wall_budget = kMaxWallPoints;
+  s.walls = parse_list<WallSpec>(root.get("walls"), kMaxWalls, "walls",
+                                 [&](const Node& n) { return parse_wall(n, wall_budget); });
+  s.terrain =
+      parse_list<TerrainSpec>(root.get("terrain"), kMaxTerrain, "terrain items", parse_terrain);
   if (auto n = root.get("expect")) s.expect = parse_expect(*n);
 
   // follow_line needs tape of the mission's colour to follow.
@@ -402,6 +650,8 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
                    : s.lines.empty() ? "an empty list"
                                      : "no line of that colour");
   }
+  check_colours(root, s);
+  check_start_clear(root, s);
   return s;
 }
 

@@ -103,24 +103,45 @@ void Node::fail(const std::string& what) const {
   throw LoadError(msg);
 }
 
+bool Node::has_explicit_tag() const {
+  // "?": no tag (plain scalars, untagged collections); "!": the non-specific tag of quoted
+  // scalars (and of a bare "!"), i.e. a string; "": null.
+  if (!node_.IsDefined()) return false;
+  const std::string& t = node_.Tag();
+  return !t.empty() && t != "?" && t != "!";
+}
+
+std::string Node::tag_text() const {
+  const std::string& t = node_.Tag();
+  constexpr std::string_view kCore = "tag:yaml.org,2002:";
+  if (t.rfind(kCore, 0) == 0) return "!!" + t.substr(kCore.size());
+  return t.size() > kMaxQuoted ? t.substr(0, kMaxQuoted) + "..." : t;
+}
+
+void Node::reject_tag(const std::string& what) const {
+  if (has_explicit_tag()) expected(what);
+}
+
 std::string Node::describe() const {
   if (!node_.IsDefined()) return "nothing";
+  std::string tag;
+  if (has_explicit_tag()) tag = tag_text() + " ";
   switch (node_.Type()) {
     case YAML::NodeType::Null:
-      return "null";
+      return tag + "null";
     case YAML::NodeType::Map:
-      return "a map";
+      return tag + "a map";
     case YAML::NodeType::Sequence:
-      return "a list";
+      return tag + "a list";
     case YAML::NodeType::Scalar:
-      return quoted(node_.Scalar());
+      return tag + quoted(node_.Scalar());
     default:
       return "nothing";
   }
 }
 
 std::string Node::raw() const {
-  if (!node_.IsScalar() || node_.Tag() == "!") return describe();
+  if (!node_.IsScalar() || node_.Tag() != "?") return describe();
   const std::string& s = node_.Scalar();
   return s.size() > kMaxQuoted ? s.substr(0, kMaxQuoted) + "..." : s;
 }
@@ -131,9 +152,12 @@ Node Node::child(const YAML::Node& n, std::string_view key) const {
 
 void Node::expect_map(std::initializer_list<std::string_view> allowed) const {
   if (!node_.IsMap()) expected("a map");
+  reject_tag("a map");
   std::vector<std::pair<std::string, int>> seen;  // key, line
   for (auto it = node_.begin(); it != node_.end(); ++it) {
-    if (!it->first.IsScalar()) Node(it->first, path_, file_).expected("a string key");
+    const Node key_as_node(it->first, path_, file_);
+    if (!it->first.IsScalar()) key_as_node.expected("a string key");
+    key_as_node.reject_tag("a string key");
     const std::string& key = it->first.Scalar();
     const Node key_node = child(it->first, key);
     for (const auto& [k, l] : seen) {
@@ -166,6 +190,7 @@ Node Node::at(std::string_view key) const {
 
 std::vector<Node> Node::items(std::size_t min_size) const {
   if (!node_.IsSequence()) expected("a list");
+  reject_tag("a list");
   if (node_.size() < min_size) {
     expected("a list of at least " + std::to_string(min_size) + " items",
              "a list of " + std::to_string(node_.size()));
@@ -180,7 +205,7 @@ std::vector<Node> Node::items(std::size_t min_size) const {
 
 std::string Node::plain_number_text() const {
   // A quoted scalar ("240") is a string in YAML, so it is not accepted as a number.
-  if (!node_.IsScalar() || node_.Tag() == "!") expected("a number");
+  if (!node_.IsScalar() || node_.Tag() != "?") expected("a number");
   return node_.Scalar();
 }
 
@@ -243,7 +268,7 @@ std::uint64_t Node::unsigned_integer() const {
 
 bool Node::boolean() const {
   // YAML 1.2 core schema spellings only; yes/no/on/off are not booleans here.
-  if (node_.IsScalar() && node_.Tag() != "!") {
+  if (node_.IsScalar() && node_.Tag() == "?") {
     const std::string& s = node_.Scalar();
     if (s == "true" || s == "True" || s == "TRUE") return true;
     if (s == "false" || s == "False" || s == "FALSE") return false;
@@ -253,6 +278,7 @@ bool Node::boolean() const {
 
 std::string Node::string() const {
   if (!node_.IsScalar()) expected("a string");
+  reject_tag("a string");
   return node_.Scalar();
 }
 

@@ -92,6 +92,11 @@ class Node {
  private:
   Node child(const YAML::Node& n, std::string_view key) const;
   std::string plain_number_text() const;  // checks "plain scalar", returns its text
+  // An explicit tag (!!str, !!int, !foo, ...): every one is rejected, so a value means what it
+  // looks like. Plain scalars and collections carry "?", quoted scalars "!".
+  bool has_explicit_tag() const;
+  std::string tag_text() const;  // "!!str" for the core schema's tags, else as written
+  void reject_tag(const std::string& what) const;
 
   YAML::Node node_;
   std::string path_;

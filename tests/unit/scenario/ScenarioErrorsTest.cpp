@@ -29,7 +29,7 @@ TEST(ScenarioErrors, OutOfRangeNamesPathLineAndValue) {
   const LoadResult r = test::load(yaml);
   ASSERT_FALSE(r.ok);
   EXPECT_EQ(r.error, at_line(yaml, "width_m: -1") +
-                         "lines[2].width_m: expected a number in (0, 0.5], got -1");
+                         "lines[2].width_m: expected a number in [0.005, 0.5], got -1");
 }
 
 TEST(ScenarioErrors, MissingRequiredKey) {
@@ -60,11 +60,14 @@ TEST(ScenarioErrors, UnknownOverrideKeyIsNotInThePresetSchema) {
 
 TEST(ScenarioErrors, OverrideRangeChecks) {
   EXPECT_TRUE(fails_with(edit(kFullYaml, "noise_std: 4.0", "noise_std: -4"),
-                         {"robot.camera.noise_std: expected a number in [0, 255], got -4"}));
+                         {"robot.camera.noise_std: expected a number in [0, 100], got -4"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "lidar: {beams: 271}", "lidar: {beams: 4096}"),
                          {"robot.lidar.beams: expected an integer in [2, 2048], got 4096"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "lidar: {beams: 271}", "lidar: {range_min_m: 25}"),
-                         {"robot.lidar.range_min_m", "range_max_m = 20", "got 25"}));
+                         {"robot.lidar.range_min_m: expected a number in [0, 10], got 25"}));
+  EXPECT_TRUE(
+      fails_with(edit(kFullYaml, "lidar: {beams: 271}", "lidar: {range_max_m: 5, range_min_m: 8}"),
+                 {"robot.lidar.range_min_m", "range_max_m = 5", "got 8"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "lidar: {beams: 271}", "lidar: {range_max_m: 0.01}"),
                          {"robot.lidar.range_max_m", "got 0.01"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "camera: {noise_std: 4.0}", "camera: {width: 2000}"),
@@ -101,13 +104,13 @@ TEST(ScenarioErrors, NumbersMustBeFinite) {
 
 TEST(ScenarioErrors, OutOfRange) {
   EXPECT_TRUE(fails_with(edit(kFullYaml, "duration_s: 240", "duration_s: 0"),
-                         {"duration_s: expected a number in (0, 86400], got 0"}));
+                         {"duration_s: expected a number in [0.1, 86400], got 0"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "min_progress: 1.0", "min_progress: 1.5"),
                          {"expect.min_progress: expected a number in [0, 1], got 1.5"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "angle_deg: 5", "angle_deg: 45"),
-                         {"terrain[0].angle_deg: expected a number in (0, 45), got 45"}));
+                         {"terrain[0].angle_deg: expected a number in [0.5, 30], got 45"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "size_m: [1.0, 2.0]", "size_m: [1.0, 0]"),
-                         {"obstacles[0].size_m[1]: expected a number in (0, 100], got 0"}));
+                         {"obstacles[0].size_m[1]: expected a number in [0.01, 100], got 0"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "speed_mps: 0.8", "speed_mps: 1.3"),
                          {"mission.speed_mps", "max_speed_mps = 1.2", "got 1.3"}));
 }
@@ -237,7 +240,7 @@ TEST(ScenarioErrors, BadPoints) {
       fails_with(edit(kFullYaml, "start_deg: -90, end_deg: 270", "start_deg: 10, end_deg: 10"),
                  {"lines[1].arc.end_deg", "got 10"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "radius_m: 3.0", "radius_m: 0"),
-                         {"lines[1].arc.radius_m: expected a number in (0, 100], got 0"}));
+                         {"lines[1].arc.radius_m: expected a number in [0.05, 100], got 0"}));
 }
 
 TEST(ScenarioErrors, ShapeSpecificKeys) {

@@ -148,7 +148,7 @@ TEST(ScenarioLoader, OptionalDefaultsInsideItems) {
   const LoadResult r = load(std::string(kMinimalYaml) +
                             "marks: [{color: red, x: 1, y: 2}]\n"
                             "obstacles: [{shape: box, x: 1, y: 2, size_m: [0.5, 0.25]}]\n"
-                            "walls: [{points: [[0, 0], [1, 1]]}]\n");
+                            "walls: [{points: [[2, 2], [3, 3]]}]\n");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_DOUBLE_EQ(r.scenario.marks[0].radius_m, 0.15);
   EXPECT_DOUBLE_EQ(r.scenario.obstacles[0].yaw_rad, 0.0);
@@ -254,8 +254,8 @@ TEST(ScenarioLoader, ArcClockwiseWhenEndBelowStart) {
 }
 
 TEST(ScenarioLoader, TinyArcHasBothEndpoints) {
-  const auto pts = arc_points(0.0, 0.0, 0.01, 0.0, 10.0);
-  check_arc(pts, {0.0, 0.0}, 0.01, 0.0, 10.0);
+  const auto pts = arc_points(0.0, 0.0, 0.1, 0.0, 10.0);  // 1.7 cm: one segment
+  check_arc(pts, {0.0, 0.0}, 0.1, 0.0, 10.0);
   EXPECT_EQ(pts.size(), 2U);
 }
 

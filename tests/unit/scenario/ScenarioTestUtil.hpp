@@ -39,7 +39,7 @@ obstacles:
   - {shape: box, x: 3, y: 0.5, yaw_deg: 30, size_m: [1.0, 2.0]}
   - {shape: cylinder, x: 6, y: 2, radius_m: 0.5}
 walls:
-  - {points: [[-2, -2], [10, -2], [10, 8]], thickness_m: 0.2}
+  - {points: [[-2, -3], [10, -3], [10, 8]], thickness_m: 0.2}
 terrain:
   - {type: ramp, x: 2, y: 5, yaw_deg: 45, length_m: 2.0, width_m: 1.5, angle_deg: 5}
   - {type: step, x: 6, y: 8, length_m: 2.5, width_m: 1.25, height_m: 0.2}

@@ -1,0 +1,39 @@
+#include "host_sim/scenario/ColorCheck.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace carril::sim {
+
+fw::ColorThreshold detector_threshold(const std::string& name, Rgb c) {
+  fw::ColorThreshold t;
+  if (fw::color_preset(name.c_str(), t)) return t;
+  return fw::threshold_around_rgb(c.r, c.g, c.b);
+}
+
+bool detector_sees(const fw::ColorThreshold& t, Rgb c) {
+  if (fw::in_threshold(t, fw::bgr_to_hsv8(c.b, c.g, c.r))) return true;
+  // The lookup table classifies each 6-bit cell at its centre colour.
+  auto centre = [](std::uint8_t v) { return 4 * (v >> 2) + 2; };
+  return fw::in_threshold(t, fw::bgr_to_hsv8(centre(c.b), centre(c.g), centre(c.r)));
+}
+
+bool floor_shade_in(const fw::ColorThreshold& t, Rgb floor, Rgb& shade_out, double& factor_out) {
+  for (const double k : {kFloorShadeMin, 1.0, kFloorShadeMax}) {
+    for (const bool up : {false, true}) {
+      auto scale = [&](std::uint8_t v) {
+        const double x = double(v) * k;
+        return static_cast<std::uint8_t>(std::min(255.0, up ? std::ceil(x) : std::floor(x)));
+      };
+      const Rgb shade{scale(floor.r), scale(floor.g), scale(floor.b)};
+      if (detector_sees(t, shade)) {
+        shade_out = shade;
+        factor_out = k;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace carril::sim
