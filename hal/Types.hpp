@@ -24,8 +24,9 @@ struct CameraFrame {
   std::uint8_t* pixel(int u, int v) { return &bgr[(std::size_t(v) * width + u) * 3]; }
 };
 
-// One 2D lidar sweep. A range may be NaN (no return), +inf (beyond range) or 0 (invalid):
-// consumers must check std::isfinite before comparing.
+// One 2D lidar sweep. Ranges follow ROS REP 117: +inf = no return within range_max_m, -inf =
+// something closer than range_min_m, NaN = an invalid measurement; drivers also report 0 or
+// out-of-limit values for invalid beams. Consumers must check std::isfinite before comparing.
 struct LaserScan {
   std::uint32_t seq = 0;                        // 0 = no scan yet
   TimeNs stamp_ns = 0;                          // [ns]

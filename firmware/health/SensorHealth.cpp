@@ -15,8 +15,12 @@ bool ScanHealth::add(const hal::LaserScan& scan) {
   Count c;
   for (int i = 0; i < scan.count && i < hal::kMaxScanBeams; ++i) {
     const float r = scan.ranges_m[std::size_t(i)];
-    // isfinite first: comparing a NaN would raise FE_INVALID.
-    if (std::isfinite(r) && r > 0.0F && r >= scan.range_min_m && r <= scan.range_max_m) ++c.valid;
+    // isfinite first: comparing a NaN would raise FE_INVALID. +inf (nothing within range) and
+    // -inf (something closer than range_min) are measurements too.
+    if (std::isinf(r) ||
+        (std::isfinite(r) && r > 0.0F && r >= scan.range_min_m && r <= scan.range_max_m)) {
+      ++c.valid;
+    }
   }
   c.total = scan.count;
   window_.push(c);

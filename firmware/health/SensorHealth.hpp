@@ -19,9 +19,11 @@ struct ScanHealthConfig {
   double min_valid_fraction = 0.05;  // fewer valid beams than this over the window: blind [0..1]
 };
 
-// Lidar: a beam is valid when its range is finite and within [range_min, range_max]. +inf (no
-// return within range) is not valid either: a scanner on a factory floor always sees something
-// (walls, racks, people); set min_valid_fraction to 0 where it may not.
+// Lidar: a beam is valid when it is a measurement: a range within [range_min, range_max], +inf
+// (nothing within range) or -inf (something closer than range_min), the REP 117 convention.
+// NaN, zero, negative and finite out-of-limit ranges are not: a scan made of them says nothing.
+// (A dead laser that reports +inf everywhere looks like an empty hall; that takes the scanner's
+// own diagnostics.)
 class ScanHealth {
  public:
   static constexpr int kMaxWindow = 64;

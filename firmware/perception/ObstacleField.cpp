@@ -8,7 +8,9 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
   for (int i = 0; i < scan.count && i < hal::kMaxScanBeams; ++i) {
-    const float r = scan.ranges_m[std::size_t(i)];
+    float r = scan.ranges_m[std::size_t(i)];
+    // -inf is something closer than the scanner can measure (REP 117): an obstacle at range_min.
+    if (std::isinf(r) && r < 0.0F) r = scan.range_min_m > 0.0F ? scan.range_min_m : 0.01F;
     // isfinite first: comparing a NaN would raise FE_INVALID.
     if (!std::isfinite(r) || r <= 0.0F || r < scan.range_min_m || r > scan.range_max_m) {
       ++invalid_beams_;

@@ -17,8 +17,9 @@ class ObstacleField {
   ObstacleField(const Footprint& fp, double mount_x, double mount_y, double mount_yaw)
       : fp_(fp), mx_(mount_x), my_(mount_y), myaw_(mount_yaw) {}
 
-  // Converts a scan taken at odometry pose `odom`. NaN, inf, zero and out-of-limit ranges are
-  // skipped (and counted): no return is not an obstacle.
+  // Converts a scan taken at odometry pose `odom`. NaN, +inf, zero and out-of-limit ranges are
+  // skipped (and counted): no return is not an obstacle. -inf (too close to measure) is an
+  // obstacle at range_min.
   void update(const hal::LaserScan& scan, const Pose2& odom);
   bool valid() const { return valid_; }
   std::uint64_t invalid_beams() const { return invalid_beams_; }

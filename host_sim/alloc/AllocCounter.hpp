@@ -1,6 +1,7 @@
 #pragma once
 // Counts heap allocations made inside "windows" (the firmware's ticks). Linking this library
-// replaces global operator new/delete and malloc/calloc/realloc/aligned allocation with counting
+// replaces global operator new/delete and malloc/calloc/realloc/memalign/aligned_alloc/
+// posix_memalign/valloc/pvalloc with counting
 // versions (the way ArduPilot wraps malloc); outside a window they cost one branch.
 #include <cstdint>
 

@@ -21,9 +21,9 @@ std::string format_event(const fw::Event& e) {
 }
 }  // namespace
 
-SimRun::SimRun(const Scenario& scenario, std::uint64_t seed)
+SimRun::SimRun(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& tweak)
     : scenario_(scenario),
-      topo_(scenario, seed),
+      topo_(scenario, seed, tweak),
       metrics_(scenario),
       period_s_(1.0 / scenario.robot.control_rate_hz),
       period_ns_(period_ns(scenario.robot.control_rate_hz)),
@@ -185,6 +185,18 @@ RunSummary SimRun::summary(double wall_time_s) {
   }
   if (x.min_progress && r.progress < *x.min_progress - 1e-9) {
     miss("min_progress: expected >= %.3f, got %.3f", *x.min_progress, r.progress);
+  }
+  if (x.max_end_stop_error_m) {
+    if (!r.end_stop_error_m) {
+      char buf[120];
+      std::snprintf(buf, sizeof buf,
+                    "max_end_stop_error_m: expected <= %.4f, got no stop on an end mark",
+                    *x.max_end_stop_error_m);
+      r.unmet_expectations.emplace_back(buf);
+    } else if (!(*r.end_stop_error_m <= *x.max_end_stop_error_m)) {
+      miss("max_end_stop_error_m: expected <= %.4f, got %.4f", *x.max_end_stop_error_m,
+           *r.end_stop_error_m);
+    }
   }
   if (x.min_laps && r.laps < *x.min_laps)
     miss("min_laps: expected >= %.0f, got %.0f", *x.min_laps, r.laps);

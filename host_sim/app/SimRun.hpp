@@ -15,7 +15,7 @@ namespace carril::sim {
 
 class SimRun {
  public:
-  SimRun(const Scenario& scenario, std::uint64_t seed);
+  SimRun(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& tweak = {});
 
   // One tick. Returns false once the run has finished (end reached, time limit, fault).
   bool step();

@@ -1,17 +1,13 @@
 #include "host_sim/app/SimTopology.hpp"
 
+#include "host_sim/scenario/ColorCheck.hpp"
+
 #include <cmath>
 
 namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-// A named colour uses its preset window; an [r, g, b] colour a window round it.
-fw::ColorThreshold color_threshold(const std::string& name, Rgb c) {
-  fw::ColorThreshold t;
-  if (fw::color_preset(name.c_str(), t)) return t;
-  return fw::threshold_around_rgb(c.r, c.g, c.b);
-}
 }  // namespace
 
 fw::FirmwareConfig firmware_config(const Scenario& s) {
@@ -37,8 +33,8 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   c.lidar.rate_hz = r.lidar.rate_hz;
   c.imu_present = true;
   c.health = fw::health_config(c);
-  c.detector.line = color_threshold(s.mission.line_color_name, s.mission.line_color);
-  c.detector.end = color_threshold(s.mission.end_color_name, s.mission.end_color);
+  c.detector.line = detector_threshold(s.mission.line_color_name, s.mission.line_color);
+  c.detector.end = detector_threshold(s.mission.end_color_name, s.mission.end_color);
   c.strategy.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority
                         : s.mission.strategy == "pid"         ? fw::Strategy::Pid
                                                               : fw::Strategy::Marks;
@@ -49,14 +45,21 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   return c;
 }
 
-SimTopology::SimTopology(const Scenario& s, std::uint64_t seed)
+namespace {
+fw::FirmwareConfig tweaked(fw::FirmwareConfig c, const ConfigTweak& tweak) {
+  if (tweak) tweak(c);
+  return c;
+}
+}  // namespace
+
+SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTweak& tweak)
     : scenario(s),
       world(s),
       camera_renderer(s, seed),
       lidar(s.robot.lidar, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu},
-      config(firmware_config(s)),
+      config(tweaked(firmware_config(s), tweak)),
       controller(std::make_unique<fw::Controller>(config, clock)),
       app(devices, *controller) {}
 

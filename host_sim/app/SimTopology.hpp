@@ -2,6 +2,7 @@
 // The simulator target's wiring: every object of a simulated robot, created and connected here,
 // top to bottom in the order data flows (world -> sensors -> HAL -> firmware -> drives -> world).
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "firmware/app/Controller.hpp"
@@ -19,8 +20,12 @@ namespace carril::sim {
 // Firmware configuration for the robot and mission a scenario describes.
 fw::FirmwareConfig firmware_config(const Scenario& s);
 
+// Changes the firmware configuration after it is derived from the scenario (tests: a rule
+// switched off, to show what it guards against).
+using ConfigTweak = std::function<void(fw::FirmwareConfig&)>;
+
 struct SimTopology {
-  SimTopology(const Scenario& scenario, std::uint64_t seed);
+  SimTopology(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& tweak = {});
 
   const Scenario& scenario;
   // The physical world and the simulated sensors that observe it.

@@ -103,6 +103,8 @@ int main(int argc, char** argv) {
                  "runs/<scenario name>_<preset>_<strategy>/ with --preset or --strategy)");
   cli.add_option("--preset", overrides.preset,
                  "robot preset instead of the scenario's (campero, pioneer3at)");
+  cli.add_option("--camera-noise", overrides.camera_noise,
+                 "camera pixel noise std instead of the scenario's (robot.camera.noise_std)");
   cli.add_option("--strategy", overrides.strategy,
                  "mission strategy instead of the scenario's (marks, line_priority, pid)");
   // Taken as text and checked here: CLI11's integer conversion would wrap -1 to 2^64 - 1.
@@ -148,6 +150,7 @@ int main(int argc, char** argv) {
     if (!overrides.empty()) {
       out_dir += "_" + scenario.robot.preset + "_" + scenario.mission.strategy;
     }
+    if (!overrides.camera_noise.empty()) out_dir += "_noise" + overrides.camera_noise;
   }
   // Before the run, not after it: a run whose outputs cannot be written is not started.
   {

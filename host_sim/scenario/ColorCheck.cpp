@@ -18,8 +18,23 @@ bool detector_sees(const fw::ColorThreshold& t, Rgb c) {
   return fw::in_threshold(t, fw::bgr_to_hsv8(centre(c.b), centre(c.g), centre(c.r)));
 }
 
+Rgb floor_shade(Rgb c, double f) {
+  const bool dark = c.r < 56 && c.g < 56 && c.b < 56;
+  auto ch = [&](std::uint8_t v) {
+    const double x = dark ? double(v) + (f - 1.0) * 80.0 : double(v) * f;
+    return static_cast<std::uint8_t>(std::clamp(std::lround(x), 0L, 255L));
+  };
+  return {ch(c.r), ch(c.g), ch(c.b)};
+}
+
 bool floor_shade_in(const fw::ColorThreshold& t, Rgb floor, Rgb& shade_out, double& factor_out) {
   for (const double k : {kFloorShadeMin, 1.0, kFloorShadeMax}) {
+    const Rgb rendered = floor_shade(floor, k);
+    if (detector_sees(t, rendered)) {
+      shade_out = rendered;
+      factor_out = k;
+      return true;
+    }
     for (const bool up : {false, true}) {
       auto scale = [&](std::uint8_t v) {
         const double x = double(v) * k;

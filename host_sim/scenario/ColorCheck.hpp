@@ -14,17 +14,22 @@ namespace carril::sim {
 // (fw::threshold_around_rgb). `name` is MissionSpec::line_color_name / end_color_name.
 fw::ColorThreshold detector_threshold(const std::string& name, Rgb c);
 
-// The rendered floor's texture scales each channel of the floor colour by a factor in
-// [kFloorShadeMin, kFloorShadeMax] (clamped to 255).
+// The rendered floor's texture (host_sim/sensors/CameraRenderer) shades the floor colour by a
+// factor in [kFloorShadeMin, kFloorShadeMax].
 inline constexpr double kFloorShadeMin = 0.85;
 inline constexpr double kFloorShadeMax = 1.15;
+
+// The floor colour shaded by factor f: each channel times f, rounded, clamped to 255; a floor
+// darker than 56 in every channel (where a factor would change little) gets (f - 1) * 80 levels
+// added instead, so that even a black floor has texture.
+Rgb floor_shade(Rgb floor, double f);
 
 // True when the detector would classify `c` as inside `t`: the exact colour, or the colour its
 // 6-bit lookup-table cell is classified by (fw::color_lut).
 bool detector_sees(const fw::ColorThreshold& t, Rgb c);
 
-// The floor shade (x0.85, x1.0 or x1.15, each channel rounded down and up, clamped to 255)
-// that falls in `t`, if any.
+// The floor shade (floor_shade at x0.85, x1.0 or x1.15, and for the multiplied shades each
+// channel rounded down and up as well) that falls in `t`, if any.
 bool floor_shade_in(const fw::ColorThreshold& t, Rgb floor, Rgb& shade_out, double& factor_out);
 
 }  // namespace carril::sim

@@ -671,6 +671,19 @@ void override_key(const YAML::Node& root, const char* section, const char* key,
 void apply_overrides(const YAML::Node& root, const ScenarioOverrides& o) {
   override_key(root, "robot", "preset", o.preset);
   override_key(root, "mission", "strategy", o.strategy);
+  if (!o.camera_noise.empty() && root.IsMap()) {
+    // robot.camera is an optional partial override: add it when the file has none.
+    YAML::Node robot = root["robot"];
+    if (robot.IsDefined() && robot.IsMap()) {
+      YAML::Node camera = robot["camera"];
+      if (!camera.IsDefined()) {
+        robot["camera"] = YAML::Node(YAML::NodeType::Map);
+        camera = robot["camera"];
+      }
+      // Parsed as YAML so that it is a plain scalar, checked like the same text in the file.
+      if (camera.IsMap()) camera["noise_std"] = YAML::Load(o.camera_noise);
+    }
+  }
 }
 
 std::string describe_overrides(const ScenarioOverrides& o) {
@@ -679,6 +692,10 @@ std::string describe_overrides(const ScenarioOverrides& o) {
   if (!o.strategy.empty()) {
     if (!s.empty()) s += ", ";
     s += "mission.strategy = " + o.strategy;
+  }
+  if (!o.camera_noise.empty()) {
+    if (!s.empty()) s += ", ";
+    s += "robot.camera.noise_std = " + o.camera_noise;
   }
   return s;
 }

@@ -18,10 +18,11 @@ struct LoadResult {
 // differential robot is rejected just the same. An empty string keeps the file's value. A
 // rejected load whose overrides were set says so at the end of its message.
 struct ScenarioOverrides {
-  std::string preset;    // robot.preset
-  std::string strategy;  // mission.strategy
+  std::string preset;        // robot.preset
+  std::string strategy;      // mission.strategy
+  std::string camera_noise;  // robot.camera.noise_std, as written on the command line
 
-  bool empty() const { return preset.empty() && strategy.empty(); }
+  bool empty() const { return preset.empty() && strategy.empty() && camera_noise.empty(); }
 };
 
 // Reads a scenario file strictly (unknown, missing, mistyped and out-of-range keys are errors)

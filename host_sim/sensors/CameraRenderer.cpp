@@ -4,6 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "host_sim/scenario/ColorCheck.hpp"
+
 namespace carril::sim {
 
 namespace {
@@ -25,16 +27,6 @@ std::uint64_t cell_hash(std::int64_t i, std::int64_t j) {
 // Uniform in [0, 1) from 16 bits of h starting at bit `at`.
 double unit(std::uint64_t h, int at) {
   return double((h >> at) & 0xFFFF) / 65536.0;
-}
-
-// A speckle's shade of the floor colour for a factor f in [0.85, 1.15].
-Rgb shade(Rgb c, double f) {
-  const bool dark = c.r < 56 && c.g < 56 && c.b < 56;
-  auto ch = [&](std::uint8_t v) {
-    const double x = dark ? double(v) + (f - 1.0) * 80.0 : double(v) * f;
-    return static_cast<std::uint8_t>(std::clamp(std::lround(x), 0L, 255L));
-  };
-  return {ch(c.r), ch(c.g), ch(c.b)};
 }
 
 std::vector<Vec2> disk(Vec2 c, double r, int n) {
@@ -212,14 +204,14 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
       const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
       // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15.
       const double u = unit(h, 48);
-      const double f = u < 0.5 ? 0.85 + 0.2 * u : 1.05 + 0.2 * (u - 0.5);
+      const double f = u < 0.5 ? kFloorShadeMin + 0.2 * u : 1.05 + 0.2 * (u - 0.5);
       const double a = 3.0 * unit(h, 8);
       const double ca = std::cos(a) * half, sa = std::sin(a) * half;
       speckle_.assign({{cx + ca - sa, cy + sa + ca},
                        {cx - ca - sa, cy - sa + ca},
                        {cx - ca + sa, cy - sa - ca},
                        {cx + ca + sa, cy + sa - ca}});
-      draw(speckle_, shade(scenario_.floor, f), pose, img);
+      draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
     }
   }
 }

@@ -1,5 +1,6 @@
-// Lidar input that real drivers produce and that must never crash or fool the firmware: NaN (no
-// return), +inf (beyond range), zero and out-of-limit ranges. Runs with floating-point traps on,
+// Lidar input that real drivers produce and that must never crash or fool the firmware: NaN
+// (invalid), +inf (no return within range), -inf (too close to measure), zero and out-of-limit
+// ranges. Runs with floating-point traps on,
 // so comparing a NaN anywhere would stop the test.
 #include <gtest/gtest.h>
 
@@ -31,15 +32,24 @@ std::unique_ptr<hal::LaserScan> scan_of(std::initializer_list<float> ranges) {
 
 TEST(ObstacleFieldTest, InvalidRangesAreSkippedAndCounted) {
   ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
-  // NaN, +inf, -inf, 0, negative, under range_min, over range_max, and two valid returns.
-  auto s = scan_of({kNaN, kInf, -kInf, 0.0F, -1.0F, 0.01F, 12.0F, 1.0F, 2.0F});
+  // NaN, +inf, 0, negative, under range_min, over range_max, -inf, and two valid returns.
+  auto s = scan_of({kNaN, kInf, 0.0F, -1.0F, 0.01F, 12.0F, -kInf, 1.0F, 2.0F});
   f.update(*s, Pose2{});
   EXPECT_TRUE(f.valid());
-  EXPECT_EQ(f.points().size(), 2U);
-  EXPECT_EQ(f.invalid_beams(), 7U);
-  // The two valid beams are at +30 and +40 deg.
-  EXPECT_NEAR(f.points()[0].x(), std::cos(30 * kPi / 180), 1e-6);
-  EXPECT_NEAR(f.points()[1].y(), 2.0 * std::sin(40 * kPi / 180), 1e-6);
+  EXPECT_EQ(f.points().size(), 3U);
+  EXPECT_EQ(f.invalid_beams(), 6U);
+  // -inf at +20 deg is an obstacle at range_min; the two valid beams are at +30 and +40 deg.
+  EXPECT_NEAR(f.points()[0].norm(), 0.05, 1e-6);
+  EXPECT_NEAR(f.points()[1].x(), std::cos(30 * kPi / 180), 1e-6);
+  EXPECT_NEAR(f.points()[2].y(), 2.0 * std::sin(40 * kPi / 180), 1e-6);
+}
+
+TEST(ObstacleFieldTest, TooCloseToMeasureIsAnObstacleAgainstTheBody) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  auto s = scan_of({kInf, kInf, kInf, kInf, -kInf, kInf, kInf, kInf, kInf});
+  f.update(*s, Pose2{});
+  ASSERT_EQ(f.points().size(), 1U);
+  EXPECT_LT(f.clearance_m(Pose2{}), 1e-9);  // inside the footprint: stop
 }
 
 TEST(ObstacleFieldTest, AllNaNScanMeansNothingAhead) {
