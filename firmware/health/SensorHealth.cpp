@@ -69,8 +69,10 @@ FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) 
   have_hash_ = true;
   if (changed) changed_at_ = odom;
 
-  blank_run_ = spread_ <= cfg_.blank_tolerance ? blank_run_ + 1 : 0;
+  const bool blank = spread_ <= cfg_.blank_tolerance;
+  blank_run_ = blank ? blank_run_ + 1 : 0;
   if (blank_run_ >= cfg_.blank_frames) return FrameVerdict::Blank;
+  if (blank) return FrameVerdict::Ok;  // one flat colour repeats itself: the blank rule's case
   // The same image again is normal for a robot standing still; not for one that has moved.
   const double moved = (Vec2(odom.x, odom.y) - Vec2(changed_at_.x, changed_at_.y)).norm();
   const double turned = std::fabs(wrap_angle(odom.yaw - changed_at_.yaw));

@@ -1,10 +1,20 @@
-// Static allocation, proven: this binary replaces the global allocators with counting versions
-// (host_sim/alloc) and runs a full scenario for more than 10,000 ticks. Not one allocation may
-// happen inside a tick after init; Eigen's runtime no-malloc check is armed inside ticks too
-// (it aborts where asserts are compiled in).
+// Static allocation, proven: this binary replaces the global allocators (operator new in all its
+// forms, malloc, calloc, realloc, memalign, aligned_alloc, posix_memalign, valloc, pvalloc) with
+// counting versions (host_sim/alloc) and runs whole missions through every behaviour state:
+// corners with camera noise (START, FOLLOW, AVOID round two obstacles, END on the mark: more
+// than 10,000 ticks), a tape that ends (SEARCH, then FAULT line_not_found), and injected drive
+// and sensor faults (FAULT, health rules). Not one allocation may happen inside a tick after
+// init; Eigen's runtime no-malloc check is armed inside ticks too (it aborts where asserts are
+// compiled in).
 #include <gtest/gtest.h>
 
+#include <malloc.h>
 #include <Eigen/Core>
+
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "host_sim/alloc/AllocCounter.hpp"
 #include "host_sim/app/SimRun.hpp"
@@ -34,6 +44,69 @@ TEST(AllocationTest, CounterSeesAnAllocationInsideAWindow) {
     alloc::end_window();
     std::free(m);
     EXPECT_EQ(alloc::count_in_windows() - before, 2U);
+    // The page-aligned ones too.
+    alloc::begin_window();
+    void* v = valloc(64);
+    escape(v);
+    void* pv = pvalloc(64);
+    escape(pv);
+    alloc::end_window();
+    std::free(v);
+    std::free(pv);
+    EXPECT_EQ(alloc::count_in_windows() - before, 4U);
+  }
+}
+
+// Runs `run` to its end; returns the behaviour states it went through (trajectory rows).
+std::set<std::string> states_of(SimRun& run, long& ticks) {
+  ticks = 0;
+  while (run.step()) ++ticks;
+  ++ticks;
+  std::set<std::string> seen;
+  for (const TrajectoryRow& r : run.rows()) seen.insert(r.state);
+  return seen;
+}
+
+TEST(AllocationTest, NoHeapAllocationInAnyStateOfAWholeMission) {
+  Scenario s = test::load_repo_scenario("corners");
+  s.robot.camera.noise_std = 4.0;
+  SimRun run(s, s.seed);
+  long ticks = 0;
+  const std::set<std::string> seen = states_of(run, ticks);
+  EXPECT_GE(ticks, 10000);
+  EXPECT_EQ(seen, (std::set<std::string>{"START", "FOLLOW", "AVOID", "END"}));
+  EXPECT_EQ(run.summary(1.0).result, "end_reached");
+  EXPECT_EQ(run.topology().controller->telemetry().obstacles_avoided, 2U);
+  EXPECT_EQ(run.allocations_in_ticks(), 0U);
+}
+
+TEST(AllocationTest, NoHeapAllocationInSearchAndItsFault) {
+  SimRun run(test::tape_end_scenario(), 1);
+  long ticks = 0;
+  const std::set<std::string> seen = states_of(run, ticks);
+  EXPECT_EQ(seen, (std::set<std::string>{"START", "FOLLOW", "SEARCH", "FAULT"}));
+  EXPECT_EQ(run.summary(1.0).fault, "line_not_found");
+  EXPECT_EQ(run.allocations_in_ticks(), 0U);
+}
+
+TEST(AllocationTest, HealthFaultPathsAllocateNothing) {
+  const std::vector<std::function<void(SimTopology&)>> faults = {
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::NanRanges); },
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); },
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Blank); },
+      [](SimTopology& t) { t.imu.inject_fault(hal::SimSensorFault::Frozen); },
+      [](SimTopology& t) { t.imu.inject_fault(hal::SimSensorFault::OutOfRange); },
+  };
+  const Scenario s = test::load_repo_scenario("corners");
+  for (const auto& inject : faults) {
+    SimRun run(s, s.seed);
+    while (run.sim_time_s() < 3.0 && run.step()) {
+    }
+    inject(run.topology());
+    while (run.step()) {
+    }
+    EXPECT_EQ(run.summary(1.0).result, "fault");
+    EXPECT_EQ(run.allocations_in_ticks(), 0U);
   }
 }
 

@@ -139,6 +139,19 @@ TEST(FrameHealthTest, AnyFlatColourIsBlankAndAGoodFrameResetsTheRun) {
   EXPECT_EQ(h.add(*green, still), FrameVerdict::Blank);
 }
 
+TEST(FrameHealthTest, FlatFramesWhileDrivingAreBlankNotFrozen) {
+  FrameHealthConfig cfg;
+  FrameHealth h(cfg);
+  const auto black = flat(0, 0, 0);
+  Pose2 p;
+  FrameVerdict v = FrameVerdict::Ok;
+  for (int i = 0; i < cfg.blank_frames && v == FrameVerdict::Ok; ++i) {
+    v = h.add(*black, p);
+    p.x += 0.03;
+  }
+  EXPECT_EQ(v, FrameVerdict::Blank);
+}
+
 TEST(FrameHealthTest, TexturedFloorIsNotBlank) {
   FrameHealth h(FrameHealthConfig{});
   const auto f = textured(0);

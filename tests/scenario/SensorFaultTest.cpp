@@ -1,0 +1,253 @@
+// Faults that keep a sensor publishing on time (so no timeout fires) and faults injected in
+// SEARCH and AVOID, in whole simulated runs: each ends in a counted, reported safe stop within
+// the documented bound (docs/architecture.md, "Sensor health"), at rest, with no collision.
+// Controls show what happens with the rule switched off.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "host_sim/app/SimRun.hpp"
+#include "tests/scenario/ScenarioSupport.hpp"
+
+namespace carril::sim {
+namespace {
+
+using test::fault_time_s;
+
+struct Outcome {
+  RunSummary summary;
+  double inject_s = 0.0;
+  double fault_s = -1.0;
+  std::vector<std::string> log;
+};
+
+// Runs `s` to `inject_at_s` (or, if `in_state` is set, until the firmware is in that state),
+// injects through `inject`, and runs to the end.
+template <typename Inject>
+Outcome run_with_fault(const Scenario& s, double inject_at_s, Inject inject,
+                       const ConfigTweak& tweak = {},
+                       fw::MissionState in_state = fw::MissionState::Count) {
+  SimRun run(s, s.seed, tweak);
+  Outcome o;
+  if (in_state != fw::MissionState::Count) {
+    EXPECT_TRUE(test::run_until_state(run, in_state)) << fw::state_name(in_state) << " never came";
+  } else {
+    while (run.sim_time_s() < inject_at_s && run.step()) {
+    }
+  }
+  for (auto& l : run.take_log()) o.log.push_back(l);
+  o.inject_s = run.sim_time_s();
+  inject(run.topology());
+  while (run.step()) {
+  }
+  for (auto& l : run.take_log()) o.log.push_back(l);
+  o.summary = run.summary(1.0);
+  o.fault_s = fault_time_s(run);
+  // After a fault: at rest at the end, drives quick-stopped, exactly one fault counted.
+  const TrajectoryRow& last = run.rows().back();
+  const fw::Telemetry& t = run.topology().controller->telemetry();
+  std::uint32_t total = 0;
+  for (auto c : t.fault_counts) total += c;
+  if (o.summary.result == "fault") {
+    EXPECT_LT(std::hypot(last.vx, last.vy), 1e-3);
+    EXPECT_LT(std::fabs(last.wz), 1e-3);
+    EXPECT_GE(run.topology().drives.quick_stop_requests(), 1);
+    EXPECT_EQ(total, 1U);
+  }
+  return o;
+}
+
+void expect_safe_stop(const Outcome& o, const char* fault, double bound_s) {
+  EXPECT_EQ(o.summary.result, "fault");
+  EXPECT_EQ(o.summary.fault, fault);
+  EXPECT_EQ(o.summary.final_state, "FAULT");
+  EXPECT_EQ(o.summary.collisions, 0);
+  ASSERT_GE(o.fault_s, 0.0);
+  EXPECT_LE(o.fault_s - o.inject_s, bound_s) << "fault came too late";
+  EXPECT_GE(o.fault_s, o.inject_s);
+}
+
+// Corners: 5 s in, the robot drives toward the cylinder on the tape (AVOID starts near 9 s).
+Scenario corners() {
+  return test::load_repo_scenario("corners");
+}
+constexpr double kInjectS = 5.0;
+
+class GarbageScan : public testing::TestWithParam<hal::SimSensorFault> {};
+
+TEST_P(GarbageScan, ScannerBlindStopsTheRobotBeforeTheObstacle) {
+  const Outcome o = run_with_fault(corners(), kInjectS,
+                                   [](SimTopology& t) { t.scanner.inject_fault(GetParam()); });
+  // Five 20 Hz scans (0.25 s) plus the obstacle task's phase.
+  expect_safe_stop(o, "scanner_blind", 0.30);
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranges, GarbageScan,
+                         testing::Values(hal::SimSensorFault::NanRanges,
+                                         hal::SimSensorFault::ZeroRanges,
+                                         hal::SimSensorFault::OutOfLimitRanges),
+                         [](const auto& i) {
+                           return i.param == hal::SimSensorFault::NanRanges    ? "NaN"
+                                  : i.param == hal::SimSensorFault::ZeroRanges ? "Zero"
+                                                                               : "OutOfLimits";
+                         });
+
+TEST(GarbageScanControl, WithoutTheHealthRuleTheRobotDrivesIntoTheObstacle) {
+  // The reproducer: a scanner of NaNs is no obstacle, so the robot follows the tape into the
+  // cylinder standing on it.
+  const Outcome o = run_with_fault(
+      corners(), kInjectS,
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::NanRanges); },
+      [](fw::FirmwareConfig& c) { c.health.scan.min_valid_fraction = 0.0; });
+  EXPECT_GT(o.summary.collisions, 0);
+  EXPECT_NE(o.summary.fault, "scanner_blind");
+}
+
+TEST(CameraHealth, BlankFramesStopTheRobot) {
+  const Outcome o = run_with_fault(corners(), kInjectS, [](SimTopology& t) {
+    t.camera.inject_fault(hal::SimSensorFault::Blank);
+  });
+  // Six 30 Hz frames (0.2 s) plus the perception task's phase.
+  expect_safe_stop(o, "camera_blank", 0.25);
+}
+
+TEST(CameraHealth, FrozenImageStopsTheRobot) {
+  const Outcome o = run_with_fault(corners(), kInjectS, [](SimTopology& t) {
+    t.camera.inject_fault(hal::SimSensorFault::Frozen);
+  });
+  // 5 cm of travel at 0.5 m/s (0.1 s), and a frame or two.
+  expect_safe_stop(o, "camera_frozen", 0.2);
+}
+
+TEST(CameraHealthControl, WithoutTheFrozenRuleTheRobotDrivesOnBlind) {
+  const Outcome o = run_with_fault(
+      corners(), kInjectS,
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); },
+      [](fw::FirmwareConfig& c) {
+        c.health.frame.frozen_motion_m = c.health.frame.frozen_turn_rad = 1e9;
+      });
+  EXPECT_NE(o.summary.fault, "camera_frozen");
+  EXPECT_GT(o.fault_s < 0 ? 1e9 : o.fault_s - o.inject_s, 1.0);  // still going a second later
+}
+
+TEST(ImuHealth, StuckImuStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      corners(), kInjectS, [](SimTopology& t) { t.imu.inject_fault(hal::SimSensorFault::Frozen); });
+  expect_safe_stop(o, "imu_frozen", 0.55);
+}
+
+TEST(ImuHealth, OutOfRangeImuStopsTheRobot) {
+  const Outcome o = run_with_fault(corners(), kInjectS, [](SimTopology& t) {
+    t.imu.inject_fault(hal::SimSensorFault::OutOfRange);
+  });
+  expect_safe_stop(o, "imu_out_of_range", 0.05);
+}
+
+TEST(ImuHealthControl, ALiveImuRaisesNothingOverAWholeCourse) {
+  const Outcome o = run_with_fault(corners(), kInjectS, [](SimTopology&) {});
+  EXPECT_TRUE(o.summary.passed) << (o.summary.unmet_expectations.empty()
+                                        ? ""
+                                        : o.summary.unmet_expectations[0]);
+  EXPECT_EQ(o.summary.fault, "");
+}
+
+// ---- Faults in AVOID and SEARCH ----
+
+bool logged_in(const Outcome& o, const std::string& state) {
+  for (const auto& l : o.log) {
+    if (l.find("FAULT") != std::string::npos && l.find("in " + state) != std::string::npos)
+      return true;
+  }
+  return false;
+}
+
+TEST(FaultInAvoid, DriveFaultStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      corners(), 0.0,
+      [](SimTopology& t) { t.drives.inject_fault(1, hal::DriveFault::Overcurrent); }, {},
+      fw::MissionState::Avoid);
+  expect_safe_stop(o, "drive_fault", 0.02);
+  EXPECT_TRUE(logged_in(o, "AVOID"));
+}
+
+TEST(FaultInAvoid, CameraGoingSilentStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      corners(), 0.0, [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Silent); },
+      {}, fw::MissionState::Avoid);
+  expect_safe_stop(o, "camera_timeout", 0.25);
+  EXPECT_TRUE(logged_in(o, "AVOID"));
+}
+
+TEST(FaultInAvoid, GarbageScanStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      corners(), 0.0,
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::ZeroRanges); }, {},
+      fw::MissionState::Avoid);
+  expect_safe_stop(o, "scanner_blind", 0.30);
+  EXPECT_TRUE(logged_in(o, "AVOID"));
+}
+
+TEST(FaultInSearch, DriveFaultStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      test::tape_end_scenario(), 0.0,
+      [](SimTopology& t) { t.drives.inject_fault(0, hal::DriveFault::HeartbeatLost); }, {},
+      fw::MissionState::Search);
+  expect_safe_stop(o, "drive_fault", 0.02);
+  EXPECT_TRUE(logged_in(o, "SEARCH"));
+}
+
+TEST(FaultInSearch, LidarGoingSilentStopsTheRobot) {
+  const Outcome o = run_with_fault(
+      test::tape_end_scenario(), 0.0,
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); }, {},
+      fw::MissionState::Search);
+  expect_safe_stop(o, "scanner_timeout", 0.6);
+  EXPECT_TRUE(logged_in(o, "SEARCH"));
+}
+
+TEST(FaultInSearch, FrozenCameraStopsTheTurningRobot) {
+  const Outcome o = run_with_fault(
+      test::tape_end_scenario(), 0.0,
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); }, {},
+      fw::MissionState::Search);
+  // The search starts turning from rest (0.2 s to reach 0.6 rad/s), then 0.05 rad of turning and
+  // a frame or two.
+  expect_safe_stop(o, "camera_frozen", 0.35);
+  EXPECT_TRUE(logged_in(o, "SEARCH"));
+}
+
+// ---- SEARCH never drives the course backwards ----
+
+TEST(SearchDirection, TapeEndSearchRejectsTheTapeBehindAndStops) {
+  // Searching at the tape's end, the robot turns round and sees the tape it came along, running
+  // away from it: that is the course backwards, so it is not followed.
+  SimRun run(test::tape_end_scenario(), 1);
+  while (run.step()) {
+  }
+  const RunSummary r = run.summary(1.0);
+  EXPECT_EQ(r.fault, "line_not_found");
+  EXPECT_EQ(r.line_reacquired_events, 0);
+  EXPECT_GT(run.topology().controller->telemetry().reversed_sightings, 0U);
+  EXPECT_EQ(r.collisions, 0);
+  EXPECT_GT(run.rows().back().x, 3.5);  // stopped at the tape's end, not back at its start
+}
+
+TEST(SearchDirectionControl, WithoutTheRuleTheRobotDrivesTheTapeBackwards) {
+  SimRun run(test::tape_end_scenario(), 1,
+             [](fw::FirmwareConfig& c) { c.behavior.reacquire_on_path_m = 0.0; });
+  while (run.step()) {
+  }
+  const RunSummary r = run.summary(1.0);
+  EXPECT_GE(r.line_reacquired_events, 1);
+  double min_x = 1e9;
+  bool reached_end = false;
+  for (const TrajectoryRow& row : run.rows()) {
+    reached_end = reached_end || row.x > 3.5;
+    if (reached_end) min_x = std::min(min_x, row.x);
+  }
+  EXPECT_LT(min_x, 2.0);  // drove back along the tape
+}
+
+}  // namespace
+}  // namespace carril::sim
