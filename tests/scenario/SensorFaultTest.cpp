@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "host_sim/app/SimRun.hpp"
@@ -19,6 +20,7 @@ struct Outcome {
   RunSummary summary;
   double inject_s = 0.0;
   double fault_s = -1.0;
+  double rest_s = -1.0;  // first time at rest after the fault
   std::vector<std::string> log;
 };
 
@@ -44,6 +46,13 @@ Outcome run_with_fault(const Scenario& s, double inject_at_s, Inject inject,
   for (auto& l : run.take_log()) o.log.push_back(l);
   o.summary = run.summary(1.0);
   o.fault_s = fault_time_s(run);
+  for (const TrajectoryRow& r : run.rows()) {
+    if (o.fault_s >= 0 && r.t >= o.fault_s && std::hypot(r.vx, r.vy) < 1e-3 &&
+        std::fabs(r.wz) < 1e-3) {
+      o.rest_s = r.t;
+      break;
+    }
+  }
   // After a fault: at rest at the end, drives quick-stopped, exactly one fault counted.
   const TrajectoryRow& last = run.rows().back();
   const fw::Telemetry& t = run.topology().controller->telemetry();
@@ -66,6 +75,11 @@ void expect_safe_stop(const Outcome& o, const char* fault, double bound_s) {
   ASSERT_GE(o.fault_s, 0.0);
   EXPECT_LE(o.fault_s - o.inject_s, bound_s) << "fault came too late";
   EXPECT_GE(o.fault_s, o.inject_s);
+  // The quick stop brakes at the drives' limit: at rest within 0.3 s from 0.5 m/s.
+  ASSERT_GE(o.rest_s, 0.0);
+  EXPECT_LE(o.rest_s - o.fault_s, 0.3);
+  std::printf("  %s: injected at %.2f s, fault after %.2f s, at rest %.2f s later\n", fault,
+              o.inject_s, o.fault_s - o.inject_s, o.rest_s - o.fault_s);
 }
 
 // Corners: 5 s in, the robot drives toward the cylinder on the tape (AVOID starts near 9 s).
