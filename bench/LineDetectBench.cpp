@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "firmware/health/SensorHealth.hpp"
 #include "tests/unit/perception/PerceptionFrames.hpp"
 
 namespace {
@@ -70,6 +71,21 @@ void opencv_detect(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations());
 }
 
+// The camera health check that runs on every frame beside detect(): spread and content hash
+// over a sparse pixel grid (firmware/health/SensorHealth.cpp).
+void frame_health(benchmark::State& st) {
+  const Frames& f = frames();
+  carril::fw::FrameHealth h{carril::fw::FrameHealthConfig{}};
+  carril::fw::Pose2 pose;
+  std::size_t i = 0;
+  for (auto _ : st) {
+    pose.x += 0.01;
+    benchmark::DoNotOptimize(h.add(*f.frames[i]->frame, pose));
+    i = i + 1 == f.frames.size() ? 0 : i + 1;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -85,6 +101,8 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("BM_LineDetect_Carril_Decimation4/640x480",
                                [](benchmark::State& st) { carril_detect(st, 4); })
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("BM_FrameHealth/640x480", frame_health)
       ->Unit(benchmark::kMicrosecond);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -41,7 +41,7 @@ class ScanHealth {
 };
 
 struct FrameHealthConfig {
-  int sample_step_px = 4;         // every this many pixels in both directions is looked at
+  int sample_step_px = 8;         // every this many pixels in both directions is looked at
   int blank_tolerance = 6;        // spread (max - min) per channel at or below this: one colour
   int blank_frames = 6;           // consecutive blank frames before the fault
   double frozen_motion_m = 0.05;  // the image may not stay identical over this much travel [m]

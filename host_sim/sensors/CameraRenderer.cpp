@@ -202,6 +202,12 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
       const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));  // 4 to 10 cm across
       const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
       const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
+      // Outside the robot-frame box of visible floor (the world box is larger when turned)?
+      const double dx = cx - pose.x, dy = cy - pose.y;
+      const double rx = co * dx + si * dy, ry = -si * dx + co * dy;
+      if (rx < texture_x0_ - 0.1 || rx > texture_x1_ + 0.1 || std::fabs(ry) > texture_y_ + 0.1) {
+        continue;
+      }
       // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15.
       const double u = unit(h, 48);
       const double f = u < 0.5 ? kFloorShadeMin + 0.2 * u : 1.05 + 0.2 * (u - 0.5);
