@@ -101,7 +101,10 @@ Vec2 parse_point(const Node& n) {
 // total limit, described by `limit_what`); the size is checked before any item is read.
 std::vector<Vec2> parse_points(const Node& n, std::size_t& budget, const std::string& limit_what) {
   if (!n.yaml().IsSequence()) n.expected("a list");
-  if (n.yaml().size() > budget) n.expected(limit_what, "more");
+  if (n.yaml().size() > budget) {
+    n.expected(limit_what, std::to_string(n.yaml().size()) + " more, with " +
+                               std::to_string(budget) + " left");
+  }
   std::vector<Vec2> out;
   for (const Node& p : n.items(2)) out.push_back(parse_point(p));
   budget -= out.size();
@@ -394,7 +397,10 @@ LineSpec parse_line(const Node& m, std::size_t& budget) {
   }
   // The point count is known before discretising: refuse it first.
   const double n_points = std::ceil(arc_len / kArcStepM) + 1.0;
-  if (n_points > static_cast<double>(budget)) arc->expected(kTapeLimit, "more");
+  if (n_points > static_cast<double>(budget)) {
+    arc->expected(kTapeLimit, strict::format_number(n_points) + " more for this arc, with " +
+                                  std::to_string(budget) + " left");
+  }
   line.points = discretise_arc(center, radius, start, end);
   budget -= line.points.size();
   line.from_arc = true;
