@@ -1,0 +1,130 @@
+#include "host_sim/scenario/ScenarioChecks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "host_sim/scenario/ColorCheck.hpp"
+
+namespace carril::sim {
+
+using strict::Node;
+
+namespace {
+
+// An oriented rectangle: centre, heading, half extents.
+struct Obb {
+  Vec2 c;
+  double yaw = 0.0, hx = 0.0, hy = 0.0;
+};
+
+// Strict overlap (touching is not overlap), by the separating axis test.
+bool overlaps(const Obb& a, const Obb& b) {
+  const double dx = b.c.x - a.c.x, dy = b.c.y - a.c.y;
+  const Obb* boxes[2] = {&a, &b};
+  for (const Obb* axis_box : boxes) {
+    for (int k = 0; k < 2; ++k) {
+      const double ang = axis_box->yaw + (k == 0 ? 0.0 : std::numbers::pi / 2);
+      const double ax = std::cos(ang), ay = std::sin(ang);
+      double reach = 0.0;
+      for (const Obb* o : boxes) {
+        const double co = std::cos(o->yaw), si = std::sin(o->yaw);
+        reach += o->hx * std::abs(co * ax + si * ay) + o->hy * std::abs(-si * ax + co * ay);
+      }
+      if (std::abs(dx * ax + dy * ay) >= reach) return false;
+    }
+  }
+  return true;
+}
+
+bool overlaps(const Obb& a, Vec2 centre, double radius) {
+  const double co = std::cos(a.yaw), si = std::sin(a.yaw);
+  const double dx = centre.x - a.c.x, dy = centre.y - a.c.y;
+  const double lx = co * dx + si * dy, ly = -si * dx + co * dy;
+  const double qx = lx - std::clamp(lx, -a.hx, a.hx), qy = ly - std::clamp(ly, -a.hy, a.hy);
+  return std::hypot(qx, qy) < radius;
+}
+
+std::string rgb_text(Rgb c) {
+  return "[" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + "]";
+}
+
+}  // namespace
+
+// The robot must not start inside an obstacle or a wall (as SimWorld builds them: each wall
+// segment a box of its length plus the thickness, thickness wide).
+void check_start_clear(const Node& root, const Scenario& s) {
+  const RobotSpec& r = s.robot;
+  const Obb robot{{r.start.x, r.start.y}, r.start.yaw_rad, r.length_m / 2, r.width_m / 2};
+  const Node robot_n = root.at("robot");
+  const auto start = robot_n.get("start");
+  const Node where = start ? *start : robot_n.child_path("start");
+  const std::string what = "a start pose whose " + r.preset + " footprint (" +
+                           strict::format_number(r.length_m) + " x " +
+                           strict::format_number(r.width_m) + " m) is clear of ";
+  const std::string got = "x " + strict::format_number(r.start.x) + ", y " +
+                          strict::format_number(r.start.y) + ", yaw_deg " +
+                          strict::format_number(r.start.yaw_rad * 180.0 / std::numbers::pi);
+  for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
+    const ObstacleSpec& o = s.obstacles[i];
+    const bool hit = o.shape == ObstacleShape::Box
+                         ? overlaps(robot, Obb{o.center, o.yaw_rad, o.size_x_m / 2, o.size_y_m / 2})
+                         : overlaps(robot, o.center, o.radius_m);
+    if (hit) {
+      where.expected(what + "obstacles", got + " (overlaps obstacles[" + std::to_string(i) + "])");
+    }
+  }
+  for (std::size_t i = 0; i < s.walls.size(); ++i) {
+    const WallSpec& w = s.walls[i];
+    for (std::size_t j = 0; j + 1 < w.points.size(); ++j) {
+      const Vec2 a = w.points[j], b = w.points[j + 1];
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      if (len < 1e-6) continue;  // SimWorld builds nothing for it
+      const Obb seg{{(a.x + b.x) / 2, (a.y + b.y) / 2},
+                    std::atan2(b.y - a.y, b.x - a.x),
+                    len / 2 + w.thickness_m / 2,
+                    w.thickness_m / 2};
+      if (overlaps(robot, seg)) {
+        where.expected(what + "walls", got + " (overlaps walls[" + std::to_string(i) +
+                                           "], segment " + std::to_string(j) + ")");
+      }
+    }
+  }
+}
+
+// The detector must tell the tape and the end mark from the floor, and from each other.
+void check_colours(const Node& root, const Scenario& s) {
+  const Node mission = root.at("mission");
+  const MissionSpec& m = s.mission;
+  const fw::ColorThreshold line_t = detector_threshold(m.line_color_name, m.line_color);
+  const fw::ColorThreshold end_t = detector_threshold(m.end_color_name, m.end_color);
+  const std::string floor_text = "floor.color " + rgb_text(s.floor);
+  auto floor_check = [&](const fw::ColorThreshold& t, const char* key, const std::string& name) {
+    Rgb shade;
+    double k = 1.0;
+    if (!floor_shade_in(t, s.floor, shade, k)) return;
+    const auto n = mission.get(key);
+    const Node where = n ? *n : mission.child_path(key);
+    where.expected("a colour the detector tells from " + floor_text + " (its shade x" +
+                       strict::format_number(k) + " = " + rgb_text(shade) + " is inside the " +
+                       name + " window)",
+                   name);
+  };
+  floor_check(line_t, "line_color", m.line_color_name);
+  floor_check(end_t, "end_color", m.end_color_name);
+  const bool line_as_end = detector_sees(end_t, m.line_color);
+  const bool end_as_line = detector_sees(line_t, m.end_color);
+  if (line_as_end || end_as_line) {
+    const auto n = mission.get("end_color");
+    const Node where = n ? *n : mission.child_path("end_color");
+    where.expected("an end colour the detector tells from mission.line_color " + m.line_color_name +
+                       " (" +
+                       (line_as_end ? "the tape falls in the end window"
+                                    : "the end colour falls in the tape window") +
+                       ")",
+                   m.end_color_name);
+  }
+}
+
+}  // namespace carril::sim
