@@ -15,7 +15,9 @@ namespace carril::sim {
 
 class SimRun {
  public:
+  // The run keeps a reference to `scenario`, which must outlive it (a temporary may not).
   SimRun(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& tweak = {});
+  SimRun(Scenario&&, std::uint64_t, const ConfigTweak& = {}) = delete;
 
   // One tick. Returns false once the run has finished (end reached, time limit, fault).
   bool step();

@@ -81,7 +81,8 @@ TEST(AllocationTest, NoHeapAllocationInAnyStateOfAWholeMission) {
 }
 
 TEST(AllocationTest, NoHeapAllocationInSearchAndItsFault) {
-  SimRun run(test::tape_end_scenario(), 1);
+  const Scenario s = test::tape_end_scenario();
+  SimRun run(s, 1);
   long ticks = 0;
   const std::set<std::string> seen = states_of(run, ticks);
   EXPECT_EQ(seen, (std::set<std::string>{"START", "FOLLOW", "SEARCH", "FAULT"}));

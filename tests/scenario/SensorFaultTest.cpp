@@ -116,6 +116,8 @@ TEST(GarbageScanControl, WithoutTheHealthRuleTheRobotDrivesIntoTheObstacle) {
       [](fw::FirmwareConfig& c) { c.health.scan.min_valid_fraction = 0.0; });
   EXPECT_GT(o.summary.collisions, 0);
   EXPECT_NE(o.summary.fault, "scanner_blind");
+  std::printf("  without the rule: %d collisions, result %s %s\n", o.summary.collisions,
+              o.summary.result.c_str(), o.summary.fault.c_str());
 }
 
 TEST(CameraHealth, BlankFramesStopTheRobot) {
@@ -236,7 +238,8 @@ TEST(FaultInSearch, FrozenCameraStopsTheTurningRobot) {
 TEST(SearchDirection, TapeEndSearchRejectsTheTapeBehindAndStops) {
   // Searching at the tape's end, the robot turns round and sees the tape it came along, running
   // away from it: that is the course backwards, so it is not followed.
-  SimRun run(test::tape_end_scenario(), 1);
+  const Scenario s = test::tape_end_scenario();
+  SimRun run(s, 1);
   while (run.step()) {
   }
   const RunSummary r = run.summary(1.0);
@@ -248,8 +251,8 @@ TEST(SearchDirection, TapeEndSearchRejectsTheTapeBehindAndStops) {
 }
 
 TEST(SearchDirectionControl, WithoutTheRuleTheRobotDrivesTheTapeBackwards) {
-  SimRun run(test::tape_end_scenario(), 1,
-             [](fw::FirmwareConfig& c) { c.behavior.reacquire_on_path_m = 0.0; });
+  const Scenario s = test::tape_end_scenario();
+  SimRun run(s, 1, [](fw::FirmwareConfig& c) { c.behavior.reacquire_on_path_m = 0.0; });
   while (run.step()) {
   }
   const RunSummary r = run.summary(1.0);
