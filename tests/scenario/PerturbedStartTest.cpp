@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include "host_sim/app/SimRun.hpp"
@@ -33,6 +34,13 @@ struct Case {
   const char* strategy;
   int k;
 };
+
+// For gtest's messages (instead of the struct's bytes).
+void PrintTo(const Case& c, std::ostream* os) {
+  const Perturbation& p = kPerturbations[c.k];
+  *os << c.course << " " << c.preset << " " << c.strategy << " start +(" << p.dx_m << ", " << p.dy_m
+      << " m, " << p.dyaw_deg << " deg) at " << p.speed_mps << " m/s";
+}
 
 std::string case_name(const testing::TestParamInfo<Case>& i) {
   return std::string(i.param.course) + "_" + i.param.preset + "_" + i.param.strategy + "_" +
