@@ -5,6 +5,7 @@
 
 #include "firmware/behavior/MissionBehavior.hpp"
 #include "firmware/control/LineController.hpp"
+#include "firmware/control/MotionLimiter.hpp"
 #include "firmware/health/SensorHealth.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/perception/CameraModel.hpp"
@@ -17,13 +18,7 @@ struct FirmwareConfig {
   DriveGeometry drive;
   double footprint_length_m = 0.5, footprint_width_m = 0.5;  // [m]
 
-  struct Limits {
-    double max_speed_mps = 1.0;           // [m/s]
-    double max_yaw_rate_radps = 1.5;      // [rad/s]
-    double max_accel_mps2 = 1.0;          // [m/s^2]
-    double max_yaw_accel_radps2 = 3.0;    // [rad/s^2]
-    double max_wheel_speed_radps = 10.0;  // [rad/s]
-  } limits;
+  MotionLimits limits;
 
   CameraMount camera;
   double camera_timeout_s = 0.5;  // no new frame for this long is a fault [s]

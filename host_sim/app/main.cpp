@@ -21,7 +21,7 @@
 #include "host_sim/app/SimRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
 #include "host_sim/scenario/ScenarioLoader.hpp"
-#include "tests/support/FpTraps.hpp"
+#include "host_sim/app/FpTraps.hpp"
 
 namespace {
 // The first stopping signal received (SIGINT, SIGTERM, SIGHUP), 0 for none.
@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
   }
 
   // Floating-point traps on: a NaN born in the simulation stops it where it happens.
-  carril::test::enable_fp_traps();
+  carril::sim::enable_fp_traps();
 
   carril::sim::SimRun run(scenario, seed);
   if (stopped_during_startup("building the world")) return 1;

@@ -2,10 +2,10 @@
 // operation, a division by zero or an overflow stops the test where it happens.
 #include <gtest/gtest.h>
 
-#include "tests/support/FpTraps.hpp"
+#include "host_sim/app/FpTraps.hpp"
 
 int main(int argc, char** argv) {
-  carril::test::enable_fp_traps();
+  carril::sim::enable_fp_traps();
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -10,8 +10,8 @@ namespace {
 constexpr double kDt = 0.01;  // [s]
 
 // Limits with everything but the one under test out of the way.
-FirmwareConfig::Limits loose() {
-  FirmwareConfig::Limits l;
+MotionLimits loose() {
+  MotionLimits l;
   l.max_speed_mps = 100.0;
   l.max_yaw_rate_radps = 100.0;
   l.max_accel_mps2 = 1e6;
@@ -44,7 +44,7 @@ TEST(MotionLimiterTest, PassesFeasibleTwist) {
 
 TEST(MotionLimiterTest, SpeedCapOnTranslationalNorm) {
   const DriveKinematics kin = mecanum();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_speed_mps = 1.0;
   MotionLimiter lim(l, kin, kDt);
   float w[4] = {};
@@ -57,7 +57,7 @@ TEST(MotionLimiterTest, SpeedCapOnTranslationalNorm) {
 
 TEST(MotionLimiterTest, YawRateCap) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_yaw_rate_radps = 1.5;
   MotionLimiter lim(l, kin, kDt);
   float w[2] = {};
@@ -68,7 +68,7 @@ TEST(MotionLimiterTest, YawRateCap) {
 
 TEST(MotionLimiterTest, AccelerationLimitFromRest) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_accel_mps2 = 1.0;
   MotionLimiter lim(l, kin, kDt);
   float w[2] = {};
@@ -83,7 +83,7 @@ TEST(MotionLimiterTest, AccelerationLimitFromRest) {
 
 TEST(MotionLimiterTest, AccelerationLimitIsOnTheVector) {
   const DriveKinematics kin = mecanum();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_accel_mps2 = 1.0;
   MotionLimiter lim(l, kin, kDt);
   float w[4] = {};
@@ -95,7 +95,7 @@ TEST(MotionLimiterTest, AccelerationLimitIsOnTheVector) {
 
 TEST(MotionLimiterTest, YawAccelerationLimit) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_yaw_accel_radps2 = 3.0;
   MotionLimiter lim(l, kin, kDt);
   float w[2] = {};
@@ -106,7 +106,7 @@ TEST(MotionLimiterTest, YawAccelerationLimit) {
 
 TEST(MotionLimiterTest, WheelSaturationScalesUniformly) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_wheel_speed_radps = 10.0;
   MotionLimiter lim(l, kin, kDt);
   float w[2] = {};
@@ -122,7 +122,7 @@ TEST(MotionLimiterTest, WheelSaturationScalesUniformly) {
 
 TEST(MotionLimiterTest, WheelSaturationMecanumKeepsDirection) {
   const DriveKinematics kin = mecanum();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_wheel_speed_radps = 10.0;
   MotionLimiter lim(l, kin, kDt);
   float w[4] = {};
@@ -149,7 +149,7 @@ TEST(MotionLimiterTest, DifferentialDropsVy) {
 
 TEST(MotionLimiterTest, DifferentialSpeedCapIgnoresDroppedVy) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_speed_mps = 1.0;
   MotionLimiter lim(l, kin, kDt);
   float w[2] = {};
@@ -159,7 +159,7 @@ TEST(MotionLimiterTest, DifferentialSpeedCapIgnoresDroppedVy) {
 
 TEST(MotionLimiterTest, ResetStartsFromRest) {
   const DriveKinematics kin = differential();
-  FirmwareConfig::Limits l = loose();
+  MotionLimits l = loose();
   l.max_accel_mps2 = 1.0;
   l.max_yaw_accel_radps2 = 3.0;
   MotionLimiter lim(l, kin, kDt);
