@@ -5,7 +5,7 @@
 #include <array>
 #include <cstdint>
 
-#include "firmware/app/Faults.hpp"
+#include "firmware/behavior/Faults.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/Frames.hpp"
 #include "firmware/behavior/BypassPlanner.hpp"

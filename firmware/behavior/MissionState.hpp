@@ -1,7 +1,7 @@
 #pragma once
 #include <cstdint>
 
-#include "firmware/app/Faults.hpp"
+#include "firmware/behavior/Faults.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
