@@ -9,7 +9,7 @@
 
 #include "hal/Types.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
-#include "tests/unit/host_sim/SimTestScenario.hpp"
+#include "tests/support/SimTestScenario.hpp"
 
 namespace carril::sim {
 namespace {

@@ -1,0 +1,62 @@
+// The world moves the robot through its wheels; contacts are counted once per start.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "firmware/kinematics/DriveKinematics.hpp"
+#include "hal/Types.hpp"
+#include "host_sim/world/SimWorld.hpp"
+#include "tests/support/SimTestScenario.hpp"
+
+namespace carril::sim {
+namespace {
+
+TEST(SimWorldTest, MecanumRobotMovesSideways) {
+  Scenario s = test::box_scenario("campero");
+  s.obstacles.clear();
+  SimWorld world(s);
+  fw::DriveKinematics kin(drive_geometry(s.robot));
+  float w[4];
+  kin.inverse({0.0, 0.5, 0.0}, w);  // 0.5 m/s to the left
+  world.set_wheel_targets(w);
+  for (int i = 0; i < 400; ++i) world.step(0.005);  // 2 s
+  const Pose2 p = world.pose();
+  // Wheels ramp at 25 rad/s^2 to 3.94 rad/s (0.16 s), so about 0.04 m is lost to the ramp.
+  EXPECT_NEAR(p.y, 1.0 - 0.04, 0.01);
+  EXPECT_NEAR(p.x, 0.0, 1e-3);
+  EXPECT_NEAR(p.yaw_rad, 0.0, 1e-3);
+  double vx = 0, vy = 0, wz = 0;
+  world.body_velocity(vx, vy, wz);
+  EXPECT_NEAR(vy, 0.5, 1e-3);
+}
+
+TEST(SimWorldTest, DifferentialRobotCannotMoveSideways) {
+  Scenario s = test::box_scenario("pioneer3at");
+  s.obstacles.clear();
+  SimWorld world(s);
+  fw::DriveKinematics kin(drive_geometry(s.robot));
+  float w[2];
+  kin.inverse({0.0, 0.5, 0.0}, w);
+  world.set_wheel_targets(w);
+  for (int i = 0; i < 200; ++i) world.step(0.005);
+  EXPECT_NEAR(world.pose().y, 0.0, 1e-6);
+}
+
+TEST(SimWorldTest, DrivingIntoABoxCountsOneCollisionAndStops) {
+  Scenario s = test::box_scenario("pioneer3at");
+  SimWorld world(s);
+  fw::DriveKinematics kin(drive_geometry(s.robot));
+  float w[2];
+  kin.inverse({0.5, 0.0, 0.0}, w);
+  world.set_wheel_targets(w);
+  for (int i = 0; i < 2000; ++i) world.step(0.005);  // 10 s: would be 5 m unobstructed
+  EXPECT_EQ(world.collisions(), 1);
+  // Front of the body (0.254 m ahead of centre) is stopped at the box face x = 2.5.
+  EXPECT_NEAR(world.pose().x, 2.5 - 0.254, 0.03);
+  EXPECT_EQ(world.take_new_contacts().size(), 1U);
+  EXPECT_TRUE(world.take_new_contacts().empty());
+}
+
+}  // namespace
+}  // namespace carril::sim
