@@ -17,11 +17,11 @@
 #include <string_view>
 #include <thread>
 
+#include "host_sim/app/FpTraps.hpp"
 #include "host_sim/app/LiveView.hpp"
 #include "host_sim/app/SimRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
 #include "host_sim/scenario/ScenarioLoader.hpp"
-#include "host_sim/app/FpTraps.hpp"
 
 namespace {
 // The first stopping signal received (SIGINT, SIGTERM, SIGHUP), 0 for none.
@@ -86,26 +86,28 @@ void startup_delay_for_tests() {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }
-}  // namespace
-
-int main(int argc, char** argv) {
-  // First, so that a signal at any point of start-up is caught and reported, not fatal.
-  install_signal_handlers();
-  CLI::App cli{"carril_sim: run a carril scenario in the Box2D host simulator"};
+// What the command line asks for.
+struct Options {
   std::string scenario_path, out_dir;
   carril::sim::ScenarioOverrides overrides;
-  std::uint64_t seed = 0;
-  std::string seed_text;
+  std::optional<std::uint64_t> seed;  // the scenario's when absent
   bool realtime = false, view = false, quiet = false;
-  cli.add_option("--scenario", scenario_path, "scenario file (YAML)")->required();
-  cli.add_option("--out", out_dir,
+};
+
+// Parses the command line into `o`. Returns the exit status when carril_sim should stop now
+// (--help: 0, bad usage: 2), nothing to go on.
+std::optional<int> parse_command_line(int argc, char** argv, Options& o) {
+  CLI::App cli{"carril_sim: run a carril scenario in the Box2D host simulator"};
+  std::string seed_text;
+  cli.add_option("--scenario", o.scenario_path, "scenario file (YAML)")->required();
+  cli.add_option("--out", o.out_dir,
                  "output directory (default runs/<scenario name>/, or "
                  "runs/<scenario name>_<preset>_<strategy>/ with --preset or --strategy)");
-  cli.add_option("--preset", overrides.preset,
+  cli.add_option("--preset", o.overrides.preset,
                  "robot preset instead of the scenario's (campero, pioneer3at)");
-  cli.add_option("--camera-noise", overrides.camera_noise,
+  cli.add_option("--camera-noise", o.overrides.camera_noise,
                  "camera pixel noise std instead of the scenario's (robot.camera.noise_std)");
-  cli.add_option("--strategy", overrides.strategy,
+  cli.add_option("--strategy", o.overrides.strategy,
                  "mission strategy instead of the scenario's (marks, line_priority, pid)");
   // Taken as text and checked here: CLI11's integer conversion would wrap -1 to 2^64 - 1.
   auto* seed_opt =
@@ -113,9 +115,9 @@ int main(int argc, char** argv) {
                      "random seed, an integer in [0, 18446744073709551615] (default: the "
                      "scenario's seed)")
           ->expected(0, 1);  // a missing value ("--seed=", "--seed --quiet") is ours to report
-  cli.add_flag("--realtime", realtime, "pace the run to wall-clock time");
-  cli.add_flag("--view", view, "open a live window: top view and camera image");
-  cli.add_flag("--quiet", quiet, "print only the final summary line");
+  cli.add_flag("--realtime", o.realtime, "pace the run to wall-clock time");
+  cli.add_flag("--view", o.view, "open a live window: top view and camera image");
+  cli.add_flag("--quiet", o.quiet, "print only the final summary line");
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -123,20 +125,93 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : 2;
   }
   if (seed_opt->count()) {
-    const std::optional<std::uint64_t> parsed = parse_decimal_u64(seed_text);
-    if (!parsed) {
+    o.seed = parse_decimal_u64(seed_text);
+    if (!o.seed) {
       std::fprintf(stderr,
                    "carril_sim: --seed: expected an integer in [0, 18446744073709551615] (digits, "
                    "optionally a leading +), got \"%s\"\n",
                    seed_text.c_str());
       return 2;
     }
-    seed = *parsed;
   }
+  return std::nullopt;
+}
+
+// runs/<name>/, or runs/<name>_<preset>_<strategy>[_noise<std>]/ when the file is overridden.
+std::string default_out_dir(const carril::sim::Scenario& s,
+                            const carril::sim::ScenarioOverrides& overrides) {
+  std::string dir = "runs/" + s.name;
+  if (!overrides.empty()) dir += "_" + s.robot.preset + "_" + s.mission.strategy;
+  if (!overrides.camera_noise.empty()) dir += "_noise" + overrides.camera_noise;
+  return dir;
+}
+
+void print_log(carril::sim::SimRun& run, bool quiet) {
+  for (const std::string& line : run.take_log()) {
+    if (!quiet) std::printf("  %s\n", line.c_str());
+  }
+}
+
+// Steps the run to its end (or a signal, or the view closing), printing its log and a progress
+// line every 2 s of wall time. `t0` is when the run started.
+void run_to_end(carril::sim::SimRun& run, const Options& o, carril::sim::LiveView* live,
+                std::chrono::steady_clock::time_point t0) {
+  using clock = std::chrono::steady_clock;
+  const carril::sim::Scenario& scenario = run.scenario();
+  const double period = 1.0 / scenario.robot.control_rate_hz;
+  auto last_progress = t0;
+  for (bool more = !run.finished(); more; more = run.step()) {
+    print_log(run, o.quiet);
+    if (g_signal.load() != 0) {
+      run.abort();
+      break;
+    }
+    const auto now = clock::now();
+    if (o.realtime) {
+      std::this_thread::sleep_until(t0 + std::chrono::duration<double>(run.sim_time_s()));
+    }
+    if (live && !live->update(run, period)) {
+      run.abort();
+      break;
+    }
+    if (!o.quiet && now - last_progress > std::chrono::seconds(2)) {
+      last_progress = now;
+      const double wall = std::chrono::duration<double>(now - t0).count();
+      std::fprintf(stderr,
+                   "  [%6.1f / %.0f s simulated, %5.1fx real time] state %s, progress %.2f\n",
+                   run.sim_time_s(), scenario.duration_s, run.sim_time_s() / wall, run.state_name(),
+                   run.progress());
+    }
+  }
+  print_log(run, o.quiet);
+}
+
+void print_result(const carril::sim::Scenario& scenario, const carril::sim::RunSummary& summary,
+                  const std::string& out_dir) {
+  std::printf(
+      "carril_sim: %s: %s, %s after %.1f s simulated in %.2f s wall (%.0fx real time); progress "
+      "%.3f, "
+      "laps %d, collisions %d, cross-track rms %.4f m, max %.4f m, tick p99 %.1f us, heap "
+      "allocations in ticks %ld\n",
+      scenario.name.c_str(), summary.passed ? "PASSED" : "FAILED", summary.result.c_str(),
+      summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.progress,
+      summary.laps, summary.collisions, summary.cross_track_rms_m, summary.cross_track_max_m,
+      summary.tick_compute_p99_us, summary.heap_allocations_after_init);
+  for (const std::string& u : summary.unmet_expectations) std::printf("  unmet: %s\n", u.c_str());
+  std::printf("carril_sim: wrote %s/{trajectory.csv,summary.json,trajectory.png,velocities.png}\n",
+              out_dir.c_str());
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  // First, so that a signal at any point of start-up is caught and reported, not fatal.
+  install_signal_handlers();
+  Options o;
+  if (const std::optional<int> rc = parse_command_line(argc, argv, o)) return *rc;
   if (stopped_during_startup("reading the command line")) return 1;
 
   const carril::sim::LoadResult loaded =
-      carril::sim::load_scenario(scenario_path, carril::sim::default_robots_dir(), overrides);
+      carril::sim::load_scenario(o.scenario_path, carril::sim::default_robots_dir(), o.overrides);
   if (!loaded.ok) {
     std::fprintf(stderr, "carril_sim: %s\n", loaded.error.c_str());
     return 2;
@@ -144,26 +219,18 @@ int main(int argc, char** argv) {
   startup_delay_for_tests();
   if (stopped_during_startup("loading the scenario")) return 1;
   const carril::sim::Scenario& scenario = loaded.scenario;
-  if (!seed_opt->count()) seed = scenario.seed;
-  if (out_dir.empty()) {
-    out_dir = "runs/" + scenario.name;
-    if (!overrides.empty()) {
-      out_dir += "_" + scenario.robot.preset + "_" + scenario.mission.strategy;
-    }
-    if (!overrides.camera_noise.empty()) out_dir += "_noise" + overrides.camera_noise;
-  }
+  const std::uint64_t seed = o.seed.value_or(scenario.seed);
+  const std::string out_dir =
+      o.out_dir.empty() ? default_out_dir(scenario, o.overrides) : o.out_dir;
   // Before the run, not after it: a run whose outputs cannot be written is not started.
-  {
-    std::string why;
-    if (!carril::sim::prepare_output_dir(out_dir, why)) {
-      std::fprintf(stderr, "carril_sim: --out: %s\n", why.c_str());
-      return 2;
-    }
+  if (std::string why; !carril::sim::prepare_output_dir(out_dir, why)) {
+    std::fprintf(stderr, "carril_sim: --out: %s\n", why.c_str());
+    return 2;
   }
   if (stopped_during_startup("checking the output directory")) return 1;
 
   std::unique_ptr<carril::sim::LiveView> live;
-  if (view) {
+  if (o.view) {
     std::string why;
     live = carril::sim::LiveView::open(scenario, why);
     if (!live) {
@@ -178,49 +245,19 @@ int main(int argc, char** argv) {
 
   carril::sim::SimRun run(scenario, seed);
   if (stopped_during_startup("building the world")) return 1;
-  if (!quiet) {
+  if (!o.quiet) {
     std::printf(
         "carril_sim: scenario %s (%s), robot %s, strategy %s, seed %llu, %.0f s simulated\n",
         scenario.name.c_str(), scenario.source_path.c_str(), scenario.robot.preset.c_str(),
         scenario.mission.strategy.c_str(), static_cast<unsigned long long>(seed),
         scenario.duration_s);
   }
-  using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
-  auto last_progress = t0;
-  const double period = 1.0 / scenario.robot.control_rate_hz;
+  const auto t0 = std::chrono::steady_clock::now();
   // Start-up ends with the first tick; a signal after it stops the run, which is then written.
-  const bool running = run.step();
+  run.step();
   if (stopped_during_startup("the first tick")) return 1;
-  for (bool more = running; more; more = run.step()) {
-    for (const std::string& line : run.take_log()) {
-      if (!quiet) std::printf("  %s\n", line.c_str());
-    }
-    if (g_signal.load() != 0) {
-      run.abort();
-      break;
-    }
-    const auto now = clock::now();
-    if (realtime) {
-      std::this_thread::sleep_until(t0 + std::chrono::duration<double>(run.sim_time_s()));
-    }
-    if (live && !live->update(run, period)) {
-      run.abort();
-      break;
-    }
-    if (!quiet && now - last_progress > std::chrono::seconds(2)) {
-      last_progress = now;
-      const double wall = std::chrono::duration<double>(now - t0).count();
-      std::fprintf(stderr,
-                   "  [%6.1f / %.0f s simulated, %5.1fx real time] state %s, progress %.2f\n",
-                   run.sim_time_s(), scenario.duration_s, run.sim_time_s() / wall, run.state_name(),
-                   run.progress());
-    }
-  }
-  for (const std::string& line : run.take_log()) {
-    if (!quiet) std::printf("  %s\n", line.c_str());
-  }
-  const double wall = std::chrono::duration<double>(clock::now() - t0).count();
+  run_to_end(run, o, live.get(), t0);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const carril::sim::RunSummary summary = run.summary(wall);
 
   std::string error;
@@ -229,17 +266,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "carril_sim: writing outputs: %s\n", error.c_str());
     return 2;
   }
-  std::printf(
-      "carril_sim: %s: %s, %s after %.1f s simulated in %.2f s wall (%.0fx real time); progress "
-      "%.3f, "
-      "laps %d, collisions %d, cross-track rms %.4f m, max %.4f m, tick p99 %.1f us, heap "
-      "allocations in ticks %ld\n",
-      scenario.name.c_str(), summary.passed ? "PASSED" : "FAILED", summary.result.c_str(),
-      summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.progress,
-      summary.laps, summary.collisions, summary.cross_track_rms_m, summary.cross_track_max_m,
-      summary.tick_compute_p99_us, summary.heap_allocations_after_init);
-  for (const std::string& u : summary.unmet_expectations) std::printf("  unmet: %s\n", u.c_str());
-  std::printf("carril_sim: wrote %s/{trajectory.csv,summary.json,trajectory.png,velocities.png}\n",
-              out_dir.c_str());
+  print_result(scenario, summary, out_dir);
   return summary.passed ? 0 : 1;
 }
