@@ -63,15 +63,11 @@ double TapeMap::start_curvature() const {
   return dh / (0.5 * (c1.norm() + c2.norm()));
 }
 
-TrackState TapeMap::track(const Pose2& odom, double lookahead_m, double preview_m) const {
-  TrackState t;
-  if (pts_.size() < 2) return t;
-  const Vec2 q(odom.x, odom.y);
+TapeMap::Nearest TapeMap::nearest(const Vec2& q) const {
   // Nearest point on the polyline, with the first segment extended backwards (the robot may not
   // have reached the first remembered point yet).
+  Nearest n;
   double best = 1e18;
-  std::size_t seg = 0;
-  double seg_u = 0.0;
   for (std::size_t i = 0; i + 1 < pts_.size(); ++i) {
     const Vec2 a = pts_[i], d = pts_[i + 1] - pts_[i];
     const double len2 = d.squaredNorm();
@@ -82,52 +78,51 @@ TrackState TapeMap::track(const Pose2& odom, double lookahead_m, double preview_
     const double dist2 = (a + u * d - q).squaredNorm();
     if (dist2 < best) {
       best = dist2;
-      seg = i;
-      seg_u = u;
+      n.seg = i;
+      n.u = u;
     }
   }
-  const Vec2 a = pts_[seg], d = pts_[seg + 1] - pts_[seg];
-  const double seg_len = d.norm();
-  if (seg_len < 1e-9) return t;
-  const Vec2 dir = d / seg_len;
-  Vec2 nearest = a + seg_u * d;
-  double tape_heading = std::atan2(dir.y(), dir.x());
-  if (seg == 0 && seg_u < 0.0) {
-    // Behind the first remembered point: continue the tape backwards along the circle it bends
-    // on there, so a robot standing on a curve is not told it is off the tape. The first chord's
-    // direction is the tangent at its middle; the tangent at the point is half a chord back.
-    const double k = start_curvature();
-    const double h0 = tape_heading - 0.5 * k * seg_len;
-    const Vec2 t0(std::cos(h0), std::sin(h0));
-    const Vec2 n0(-t0.y(), t0.x());
-    if (std::fabs(k) < 1e-4) {
-      nearest = a + (q - a).dot(t0) * t0;
-      tape_heading = h0;
-    } else {
-      const Vec2 c = a + n0 / k;  // centre (left of the tape for k > 0)
-      const Vec2 rq = q - c, ra = a - c;
-      const double r = 1.0 / std::fabs(k);
-      nearest = rq.norm() > 1e-9 ? Vec2(c + rq * (r / rq.norm())) : a;
-      const Vec2 rn = nearest - c;
-      // Angle swept about the centre from the first point to the nearest one.
-      const double phi = std::atan2(ra.x() * rn.y() - ra.y() * rn.x(), ra.dot(rn));
-      tape_heading = h0 + phi;  // along a circle the heading turns by the angle swept
-    }
+  return n;
+}
+
+void TapeMap::continue_behind(const Vec2& q, double seg_len, Vec2& nearest,
+                              double& tape_heading) const {
+  // Behind the first remembered point: continue the tape backwards along the circle it bends
+  // on there, so a robot standing on a curve is not told it is off the tape. The first chord's
+  // direction is the tangent at its middle; the tangent at the point is half a chord back.
+  const Vec2 a = pts_[0];
+  const double k = start_curvature();
+  const double h0 = tape_heading - 0.5 * k * seg_len;
+  const Vec2 t0(std::cos(h0), std::sin(h0));
+  const Vec2 n0(-t0.y(), t0.x());
+  if (std::fabs(k) < 1e-4) {
+    nearest = a + (q - a).dot(t0) * t0;
+    tape_heading = h0;
+    return;
   }
-  // Signed offset: + when the tape is to the robot's left.
-  t.lateral_m = to_robot(odom, nearest).y();
-  t.tape_heading_odom = tape_heading;
-  t.heading_err_rad = wrap_angle(tape_heading - odom.yaw);
+  const Vec2 c = a + n0 / k;  // centre (left of the tape for k > 0)
+  const Vec2 rq = q - c, ra = a - c;
+  const double r = 1.0 / std::fabs(k);
+  nearest = rq.norm() > 1e-9 ? Vec2(c + rq * (r / rq.norm())) : a;
+  const Vec2 rn = nearest - c;
+  // Angle swept about the centre from the first point to the nearest one.
+  const double phi = std::atan2(ra.x() * rn.y() - ra.y() * rn.x(), ra.dot(rn));
+  tape_heading = h0 + phi;  // along a circle the heading turns by the angle swept
+}
+
+void TapeMap::walk_ahead(const Nearest& n, const Vec2& nearest, const Vec2& dir, double seg_len,
+                         double tape_heading, double lookahead_m, double preview_m,
+                         const Pose2& odom, TrackState& t) const {
   // Walk forward along the path for the look-ahead point, the preview curvature and corners.
-  double walked = (1.0 - seg_u) * seg_len;
-  Vec2 la = pts_[seg + 1];
+  double walked = (1.0 - n.u) * seg_len;
+  Vec2 la = pts_[n.seg + 1];
   bool la_set = walked >= lookahead_m;
   if (la_set) la = nearest + dir * lookahead_m;
   double prev_heading = tape_heading;
   double turn_sum = 0.0;
   double preview_used = 0.0;
   double sharpest = 0.0;
-  for (std::size_t i = seg + 1; i + 1 < pts_.size(); ++i) {
+  for (std::size_t i = n.seg + 1; i + 1 < pts_.size(); ++i) {
     const Vec2 s = pts_[i + 1] - pts_[i];
     const double len = s.norm();
     if (len < 1e-9) continue;
@@ -154,6 +149,25 @@ TrackState TapeMap::track(const Pose2& odom, double lookahead_m, double preview_
   if (!la_set) la = pts_.back();
   t.lookahead = to_robot(odom, la);
   t.curvature_ahead = preview_used > 1e-3 ? turn_sum / preview_used : 0.0;
+}
+
+TrackState TapeMap::track(const Pose2& odom, double lookahead_m, double preview_m) const {
+  TrackState t;
+  if (pts_.size() < 2) return t;
+  const Vec2 q(odom.x, odom.y);
+  const Nearest n = nearest(q);
+  const Vec2 a = pts_[n.seg], d = pts_[n.seg + 1] - pts_[n.seg];
+  const double seg_len = d.norm();
+  if (seg_len < 1e-9) return t;
+  const Vec2 dir = d / seg_len;
+  Vec2 nearest_pt = a + n.u * d;
+  double tape_heading = std::atan2(dir.y(), dir.x());
+  if (n.seg == 0 && n.u < 0.0) continue_behind(q, seg_len, nearest_pt, tape_heading);
+  // Signed offset: + when the tape is to the robot's left.
+  t.lateral_m = to_robot(odom, nearest_pt).y();
+  t.tape_heading_odom = tape_heading;
+  t.heading_err_rad = wrap_angle(tape_heading - odom.yaw);
+  walk_ahead(n, nearest_pt, dir, seg_len, tape_heading, lookahead_m, preview_m, odom, t);
   t.valid = true;
   return t;
 }

@@ -42,6 +42,19 @@ class TapeMap {
   const StaticVector<Vec2, kMaxPoints>& points() const { return pts_; }
 
  private:
+  // The nearest point of the remembered path: segment index and position along it (u < 0 on the
+  // first segment: behind the first point).
+  struct Nearest {
+    std::size_t seg = 0;
+    double u = 0.0;
+  };
+  Nearest nearest(const Vec2& q) const;
+  // Behind the first point: the nearest point and heading on the tape continued backwards.
+  void continue_behind(const Vec2& q, double seg_len, Vec2& nearest, double& tape_heading) const;
+  // Look-ahead point, preview curvature, sharpest corner and remaining length into `t`.
+  void walk_ahead(const Nearest& n, const Vec2& nearest, const Vec2& dir, double seg_len,
+                  double tape_heading, double lookahead_m, double preview_m, const Pose2& odom,
+                  TrackState& t) const;
   double start_curvature() const;
   StaticVector<Vec2, kMaxPoints> pts_;
 };
