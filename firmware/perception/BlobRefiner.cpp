@@ -188,27 +188,22 @@ BlobRefiner::BlobRefiner(int width, int height, int decimation)
 
 BlobRefiner::~BlobRefiner() = default;
 
-int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const RunLabeler& lab,
-                         const BitImage& cells, int id, BlobSums& out) {
-  out = BlobSums{};
-  const std::int16_t* box = lab.box(id);
-  const int y0 = box[2], y1 = box[3];
-  const int cy0 = y0 > 0 ? y0 - 1 : 0, cy1 = y1 + 1 < cell_h_ ? y1 + 1 : cell_h_ - 1;
-  const int cs = cell_stride_, s = stride_;
-  // The window: the blob's bounding box and one cell round it; words k0..k1 of each pixel row.
-  const int cx0 = box[0] > 0 ? box[0] - 1 : 0, cx1 = box[1] + 1 < cell_w_ ? box[1] + 1 : box[1];
-  const int k0 = (d_ * cx0) >> 6;
-  const int k1 = (d_ * cx1 + d_ - 1 < w_ ? d_ * cx1 + d_ - 1 : w_ - 1) >> 6;
-  auto brow = [&](int y) { return blob_.get() + std::ptrdiff_t(y + 1) * cs; };
+void BlobRefiner::mark_blob(const RunLabeler& lab, int id, int y0, int y1, int cy0, int cy1) {
+  const int cs = cell_stride_;
   for (int y = cy0 - 1; y <= cy1 + 1; ++y) {
     if (y < -1 || y > cell_h_) continue;
-    for (int k = 0; k < cs; ++k) brow(y)[k] = 0;
+    for (int k = 0; k < cs; ++k) blob_row(y)[k] = 0;
   }
   for (int y = y0; y <= y1; ++y) {
     for (int i = lab.row_begin(y); i < lab.row_begin(y + 1); ++i) {
-      if (lab.root(i) == id) set_range(brow(y), lab.run(i).x0, lab.run(i).x1);
+      if (lab.root(i) == id) set_range(blob_row(y), lab.run(i).x0, lab.run(i).x1);
     }
   }
+}
+
+int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t,
+                                const BitImage& cells, int cy0, int cy1, int k0, int k1) {
+  const int cs = cell_stride_, s = stride_;
   // Solid cells (their 3x3 neighbourhood inside the blob; outside the image counts as inside)
   // and boundary cells (the 3x3 dilation of the blob minus the solid cells).
   const std::uint64_t last = valid_bits(cells.width, cs - 1);
@@ -224,8 +219,8 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
           di[r][k] = 0;
         }
       } else {
-        hpass<true>(brow(yy), cs, last, er[r]);
-        hpass<false>(brow(yy), cs, last, di[r]);
+        hpass<true>(blob_row(yy), cs, last, er[r]);
+        hpass<false>(blob_row(yy), cs, last, di[r]);
       }
     }
     for (int k = 0; k < cs; ++k) {
@@ -272,15 +267,13 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
       }
     }
   }
-  // The thesis's opening at full resolution, on this window of rows.
-  const int v0 = d_ * cy0, v1 = d_ * cy1 + d_ - 1 < h_ ? d_ * cy1 + d_ - 1 : h_ - 1;
-  std::uint64_t* m = mask_.get();
-  std::uint64_t* tmp = tmp_.get();
-  morph_window<true>(m, tmp, s, w_, h_, v0, v1, k0, k1);
-  morph_window<true>(m, tmp, s, w_, h_, v0, v1, k0, k1);
-  morph_window<false>(m, tmp, s, w_, h_, v0, v1, k0, k1);
-  morph_window<false>(m, tmp, s, w_, h_, v0, v1, k0, k1);
+  return classified;
+}
 
+void BlobRefiner::window_moments(int y0, int y1, int v0, int v1, int k0, int k1,
+                                 BlobSums& out) const {
+  const int s = stride_;
+  const std::uint64_t* m = mask_.get();
   // Moments of the area (by runs) and of the outline (pixels with a 4-neighbour outside).
   const int vb0 = d_ * y0, vb1 = d_ * y1 + d_ - 1;
   out.bands = vb1 - vb0 + 1 < BlobSums::kBands ? vb1 - vb0 + 1 : BlobSums::kBands;
@@ -337,6 +330,29 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
     out.band_su[band_i] += rsu;
     out.band_sv[band_i] += rn * vv;
   }
+}
+
+int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const RunLabeler& lab,
+                         const BitImage& cells, int id, BlobSums& out) {
+  out = BlobSums{};
+  const std::int16_t* box = lab.box(id);
+  const int y0 = box[2], y1 = box[3];
+  const int cy0 = y0 > 0 ? y0 - 1 : 0, cy1 = y1 + 1 < cell_h_ ? y1 + 1 : cell_h_ - 1;
+  // The window: the blob's bounding box and one cell round it; words k0..k1 of each pixel row.
+  const int cx0 = box[0] > 0 ? box[0] - 1 : 0, cx1 = box[1] + 1 < cell_w_ ? box[1] + 1 : box[1];
+  const int k0 = (d_ * cx0) >> 6;
+  const int k1 = (d_ * cx1 + d_ - 1 < w_ ? d_ * cx1 + d_ - 1 : w_ - 1) >> 6;
+  mark_blob(lab, id, y0, y1, cy0, cy1);
+  const int classified = rebuild_window(bgr, t, cells, cy0, cy1, k0, k1);
+  // The thesis's opening at full resolution, on this window of rows.
+  const int v0 = d_ * cy0, v1 = d_ * cy1 + d_ - 1 < h_ ? d_ * cy1 + d_ - 1 : h_ - 1;
+  std::uint64_t* m = mask_.get();
+  std::uint64_t* tmp = tmp_.get();
+  morph_window<true>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  morph_window<true>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  morph_window<false>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  morph_window<false>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  window_moments(y0, y1, v0, v1, k0, k1, out);
   return classified;
 }
 

@@ -40,6 +40,16 @@ class BlobRefiner {
               const BitImage& cells, int id, BlobSums& out);
 
  private:
+  // The blob's cells, one row of words per cell row (with a cleared row above and below).
+  std::uint64_t* blob_row(int y) { return blob_.get() + std::ptrdiff_t(y + 1) * cell_stride_; }
+  // Writes blob `id`'s cells (cell rows y0..y1) into blob_, clearing rows cy0 - 1..cy1 + 1.
+  void mark_blob(const RunLabeler& lab, int id, int y0, int y1, int cy0, int cy1);
+  // Full-resolution mask of cell rows cy0..cy1, words k0..k1: solid cells set, boundary cells'
+  // pixels classified as OpenCV would. Returns the number of pixels classified.
+  int rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t, const BitImage& cells,
+                     int cy0, int cy1, int k0, int k1);
+  // Area and outline moments of the window's mask rows v0..v1 (the blob's rows y0..y1 in bands).
+  void window_moments(int y0, int y1, int v0, int v1, int k0, int k1, BlobSums& out) const;
   int w_, h_, d_, stride_;
   std::unique_ptr<std::uint64_t[]> mask_, tmp_;  // h_ x stride_ full-resolution rows
   std::unique_ptr<std::uint64_t[]> blob_;        // the blob's cells, (cells high + 2) rows
