@@ -28,24 +28,14 @@ Rgb floor_shade(Rgb c, double f) {
 }
 
 bool floor_shade_in(const fw::ColorThreshold& t, Rgb floor, Rgb& shade_out, double& factor_out) {
-  for (const double k : {kFloorShadeMin, 1.0, kFloorShadeMax}) {
+  // The flat floor and the ends of the speckles' two shade ranges, exactly as the renderer
+  // computes them (a window in HSV holds a scaled colour over an interval of the factor).
+  for (const double k : {kFloorShadeMin, 0.95, 1.0, 1.05, kFloorShadeMax}) {
     const Rgb rendered = floor_shade(floor, k);
     if (detector_sees(t, rendered)) {
       shade_out = rendered;
       factor_out = k;
       return true;
-    }
-    for (const bool up : {false, true}) {
-      auto scale = [&](std::uint8_t v) {
-        const double x = double(v) * k;
-        return static_cast<std::uint8_t>(std::min(255.0, up ? std::ceil(x) : std::floor(x)));
-      };
-      const Rgb shade{scale(floor.r), scale(floor.g), scale(floor.b)};
-      if (detector_sees(t, shade)) {
-        shade_out = shade;
-        factor_out = k;
-        return true;
-      }
     }
   }
   return false;

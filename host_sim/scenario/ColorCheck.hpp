@@ -28,8 +28,7 @@ Rgb floor_shade(Rgb floor, double f);
 // 6-bit lookup-table cell is classified by (fw::color_lut).
 bool detector_sees(const fw::ColorThreshold& t, Rgb c);
 
-// The floor shade (floor_shade at x0.85, x1.0 or x1.15, and for the multiplied shades each
-// channel rounded down and up as well) that falls in `t`, if any.
+// The floor shade (floor_shade at x0.85, x0.95, x1.0, x1.05 or x1.15) that falls in `t`, if any.
 bool floor_shade_in(const fw::ColorThreshold& t, Rgb floor, Rgb& shade_out, double& factor_out);
 
 }  // namespace carril::sim

@@ -253,7 +253,7 @@ TEST(ScenarioRules, TapeTheColourOfTheFloorRejected) {
   // White's window is V >= 170, S <= 60: a floor of 160 grey is white at x1.15 (184).
   const std::string grey = kMinimalYaml + "floor: {color: [160, 160, 160]}\n";
   EXPECT_TRUE(fails_with(grey, {"mission.line_color: expected a colour the detector tells from "
-                                "floor.color [160, 160, 160] (its shade x1.15 = [184, 184, 184] is "
+                                "floor.color [160, 160, 160] (its shade x1.05 = [168, 168, 168] is "
                                 "inside the white window), got white"}));
   EXPECT_TRUE(test::load(kMinimalYaml + "floor: {color: [140, 140, 140]}\n").ok);
   // An [r, g, b] tape near the floor colour.
