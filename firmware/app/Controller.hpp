@@ -5,7 +5,7 @@
 #include <array>
 #include <cstdint>
 
-#include "firmware/behavior/Faults.hpp"
+#include "firmware/core/Faults.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/Frames.hpp"
 #include "firmware/behavior/BypassPlanner.hpp"

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <cstdio>
 
-#include "firmware/behavior/Faults.hpp"
+#include "firmware/core/Faults.hpp"
 #include "firmware/behavior/MissionState.hpp"
 
 namespace carril::fw {

@@ -4,7 +4,7 @@
 // drive every transition with scripted observations.
 #include <cstdint>
 
-#include "firmware/behavior/Faults.hpp"
+#include "firmware/core/Faults.hpp"
 #include "firmware/behavior/BypassPlanner.hpp"
 #include "firmware/behavior/MissionState.hpp"
 #include "firmware/control/LineController.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 #include <cstdint>
 
-#include "firmware/behavior/Faults.hpp"
+#include "firmware/core/Faults.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {

@@ -1,0 +1,42 @@
+#pragma once
+// The outcome of an init-time check (configuration, task table, device bring-up): ok, or an error
+// message that names what failed, the value and what was expected. Fixed size: no heap, usable
+// where exceptions are off. Checks run in every build type (not asserts).
+#include <cstdarg>
+#include <cstddef>
+#include <cstdio>
+
+namespace carril::fw {
+
+class Status {
+ public:
+  static constexpr std::size_t kMaxText = 240;
+
+  static Status ok() { return Status{}; }
+  // printf-style message: "behavior.lost_frames: 0 frames, expected 1 to 100".
+  [[gnu::format(printf, 1, 2)]] static Status error(const char* fmt, ...) {
+    Status s;
+    std::va_list args;
+    va_start(args, fmt);
+    std::vsnprintf(s.text_, kMaxText, fmt, args);
+    va_end(args);
+    if (s.text_[0] == '\0') s.text_[0] = '?';
+    return s;
+  }
+  bool is_ok() const { return text_[0] == '\0'; }
+  explicit operator bool() const { return is_ok(); }
+  // The error message ("" when ok).
+  const char* message() const { return text_; }
+
+ private:
+  char text_[kMaxText] = {};
+};
+
+// Range check for one configuration field [lo, hi] (NaN fails): the error names the field, its
+// value, its unit and the range.
+inline Status check_range(const char* field, double v, double lo, double hi, const char* unit) {
+  if (v >= lo && v <= hi) return Status::ok();
+  return Status::error("%s: %g %s, expected %g to %g %s", field, v, unit, lo, hi, unit);
+}
+
+}  // namespace carril::fw
