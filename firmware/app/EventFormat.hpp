@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "firmware/core/Faults.hpp"
-#include "firmware/behavior/MissionState.hpp"
+#include "firmware/behavior/LineState.hpp"
 
 namespace carril::fw {
 

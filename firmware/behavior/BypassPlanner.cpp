@@ -122,28 +122,15 @@ void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p) const {
   set_waypoints(p, first.x());
 }
 
-Twist drive_to(const Pose2& odom, const Vec2& wp, double hold_heading, bool holonomic, double speed,
-               bool& reached) {
-  const Vec2 e = to_robot(odom, wp);
-  const double d = e.norm();
-  reached = d < 0.04;
-  Twist t;
-  if (reached) return t;
-  const double v = speed * std::fmin(1.0, d / 0.3) + 0.03;
-  if (holonomic) {
-    t.vx = v * e.x() / d;
-    t.vy = v * e.y() / d;
-    t.wz = clampd(2.0 * wrap_angle(hold_heading - odom.yaw), -0.8, 0.8);
-    return t;
-  }
-  const double bearing = std::atan2(e.y(), e.x());
-  if (std::fabs(bearing) > 0.15) {
-    t.wz = clampd(2.5 * bearing, -1.0, 1.0);  // turn on the spot first
-  } else {
-    t.vx = v;
-    t.wz = 2.0 * bearing;
-  }
-  return t;
+Status AvoidConfig::validate() const {
+  return Checks("behavior.avoid")
+      .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
+      .range("clearance_m", clearance_m, 0.0, 2.0, "m")
+      .range("speed_mps", speed_mps, 0.01, 2.0, "m/s")
+      .range("emergency_m", emergency_m, 0.0, 1.0, "m")
+      .range("max_lateral_m", max_lateral_m, 0.1, 20.0, "m")
+      .range("blocked_timeout_s", blocked_timeout_s, 0.1, 60.0, "s")
+      .result();
 }
 
 }  // namespace carril::fw

@@ -5,18 +5,21 @@
 // onto the tape beyond it. The plan grows as the lidar sees more of the obstacle's far side.
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/StaticVector.hpp"
+#include "firmware/core/Status.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {
 
 struct AvoidConfig {
-  double trigger_m = 0.45;          // obstacle this close ahead of the bumper: avoid it [m]
   double corridor_margin_m = 0.10;  // corridor = robot width + this each side [m]
+  // (The obstacle that starts an avoidance is the mission runner's: ObstacleStopConfig.)
   double clearance_m = 0.30;        // body-to-obstacle clearance while passing [m]
   double speed_mps = 0.30;          // bypass speed [m/s]
   double emergency_m = 0.05;        // any point this close to the body stops the robot [m]
   double max_lateral_m = 2.5;       // never detour further than this from the tape [m]
   double blocked_timeout_s = 3.0;   // stopped this long by something in the way: give up [s]
+
+  Status validate() const;
 };
 
 struct BypassPlan {
@@ -46,10 +49,5 @@ class BypassPlanner {
   AvoidConfig cfg_;
   Footprint fp_;
 };
-
-// Drives toward a waypoint. Holonomic robots translate and hold `hold_heading`; differential ones
-// turn on the spot, then drive. `reached` is set within 4 cm.
-Twist drive_to(const Pose2& odom, const Vec2& wp, double hold_heading, bool holonomic,
-               double speed_mps, bool& reached);
 
 }  // namespace carril::fw

@@ -115,3 +115,33 @@ Twist LineController::lost(double /*dt_s*/) {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+Status StrategyConfig::validate() const {
+  Checks c("strategy");
+  const PidGains* sets[] = {&pid_straight, &pid_curve};
+  for (const PidGains* g : sets) {
+    const char* which = g == &pid_straight ? "pid_straight" : "pid_curve";
+    c.range(which, g->speed_mps, 0.0, 5.0, "m/s (speed_mps)")
+        .fail_if(!(g->kp >= 0.0 && g->ki >= 0.0 && g->kd >= 0.0), which,
+                 "gains kp, ki, kd must be >= 0");
+  }
+  return c.range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
+      .range("marks_lookahead_m", marks_lookahead_m, 0.01, 5.0, "m")
+      .range("lp_k_lateral", lp_k_lateral, 0.0, 50.0, "1/s")
+      .range("lp_k_angle", lp_k_angle, 0.0, 50.0, "1/s")
+      .range("lp_k_lateral_w", lp_k_lateral_w, -50.0, 50.0, "rad/s per m")
+      .range("pid_lookahead_m", pid_lookahead_m, 0.0, 5.0, "m")
+      .range("pid_error_scale_m", pid_error_scale_m, 0.01, 5.0, "m")
+      .range("pid_curve_threshold", pid_curve_threshold, 0.0, 1.0, "(normalised error)")
+      .range("heading_gain", heading_gain, 0.0, 50.0, "1/s")
+      .range("corner_turn_rad", corner_turn_rad, 0.05, 3.2, "rad")
+      .range("corner_slow_m", corner_slow_m, 0.0, 10.0, "m")
+      .range("corner_min_speed_mps", corner_min_speed_mps, 0.0, 5.0, "m/s")
+      .range("pivot_heading_rad", pivot_heading_rad, 0.05, 3.2, "rad")
+      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.05, 20.0, "rad/s")
+      .result();
+}
+
+}  // namespace carril::fw

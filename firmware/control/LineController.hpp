@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/Status.hpp"
 #include "firmware/perception/TapeMap.hpp"
 
 namespace carril::fw {
@@ -58,6 +59,8 @@ struct StrategyConfig {
   double corner_min_speed_mps = 0.12;  // speed at the corner [m/s]
   double pivot_heading_rad = 0.5;      // heading error above this: turn on the spot
   double max_yaw_rate_radps = 1.2;     // [rad/s]
+
+  Status validate() const;
 };
 
 class LineController {

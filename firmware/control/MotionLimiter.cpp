@@ -45,3 +45,17 @@ Twist MotionLimiter::apply(const Twist& want, float* wheel_radps) {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+Status MotionLimits::validate() const {
+  return Checks("limits")
+      .range("max_speed_mps", max_speed_mps, 0.01, 10.0, "m/s")
+      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.01, 20.0, "rad/s")
+      .range("max_accel_mps2", max_accel_mps2, 0.01, 20.0, "m/s^2")
+      .range("max_yaw_accel_radps2", max_yaw_accel_radps2, 0.01, 50.0, "rad/s^2")
+      .range("max_wheel_speed_radps", max_wheel_speed_radps, 0.1, 1000.0, "rad/s")
+      .result();
+}
+
+}  // namespace carril::fw

@@ -1,6 +1,7 @@
 #pragma once
 // Makes any requested twist feasible: body speed and yaw-rate caps, acceleration limits per
 // tick, then wheel-speed saturation by uniform scaling (which keeps the path's curvature).
+#include "firmware/core/Status.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 
 namespace carril::fw {
@@ -12,6 +13,8 @@ struct MotionLimits {
   double max_accel_mps2 = 1.0;          // [m/s^2]
   double max_yaw_accel_radps2 = 3.0;    // [rad/s^2]
   double max_wheel_speed_radps = 10.0;  // [rad/s]
+
+  Status validate() const;
 };
 
 class MotionLimiter {

@@ -39,4 +39,32 @@ inline Status check_range(const char* field, double v, double lo, double hi, con
   return Status::error("%s: %g %s, expected %g to %g %s", field, v, unit, lo, hi, unit);
 }
 
+// Range checks over one config struct, keeping the first failure:
+//   return Checks("limits").range("max_speed_mps", max_speed_mps, 0.01, 10.0, "m/s").result();
+class Checks {
+ public:
+  explicit Checks(const char* scope) : scope_(scope) {}
+  Checks& range(const char* field, double v, double lo, double hi, const char* unit) {
+    if (status_.is_ok() && !(v >= lo && v <= hi)) {
+      status_ = Status::error("%s.%s: %g %s, expected %g to %g %s", scope_, field, v, unit, lo, hi,
+                              unit);
+    }
+    return *this;
+  }
+  // A nested struct's own validate().
+  Checks& nested(const Status& s) {
+    if (status_.is_ok() && !s.is_ok()) status_ = s;
+    return *this;
+  }
+  Checks& fail_if(bool bad, const char* field, const char* why) {
+    if (status_.is_ok() && bad) status_ = Status::error("%s.%s: %s", scope_, field, why);
+    return *this;
+  }
+  const Status& result() const { return status_; }
+
+ private:
+  const char* scope_;
+  Status status_;
+};
+
 }  // namespace carril::fw

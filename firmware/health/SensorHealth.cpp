@@ -118,3 +118,34 @@ ImuVerdict ImuHealth::add(const hal::ImuSample& s, double t_s, double odom_wz) {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+Status ScanHealthConfig::validate() const {
+  return Checks("health.scan")
+      .range("window_scans", window_scans, 1, ScanHealth::kMaxWindow, "scans")
+      .range("min_valid_fraction", min_valid_fraction, 0.0, 1.0, "(fraction)")
+      .result();
+}
+
+Status FrameHealthConfig::validate() const {
+  return Checks("health.frame")
+      .range("sample_step_px", sample_step_px, 1, 64, "px")
+      .range("blank_tolerance", blank_tolerance, 0, 255, "levels")
+      .range("blank_frames", blank_frames, 1, 1000, "frames")
+      .range("frozen_motion_m", frozen_motion_m, 0.001, 10.0, "m")
+      .range("frozen_turn_rad", frozen_turn_rad, 0.001, 6.3, "rad")
+      .result();
+}
+
+Status ImuHealthConfig::validate() const {
+  return Checks("health.imu")
+      .range("max_tilt_rad", max_tilt_rad, 0.01, 1.6, "rad")
+      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.1, 100.0, "rad/s")
+      .range("out_of_range_samples", out_of_range_samples, 1, 1000, "samples")
+      .range("frozen_s", frozen_s, 0.01, 60.0, "s")
+      .range("frozen_min_turn_change_radps", frozen_min_turn_change_radps, 0.001, 10.0, "rad/s")
+      .result();
+}
+
+}  // namespace carril::fw

@@ -10,6 +10,7 @@
 
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/RingBuffer.hpp"
+#include "firmware/core/Status.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -17,6 +18,8 @@ namespace carril::fw {
 struct ScanHealthConfig {
   int window_scans = 5;              // scans the valid-beam fraction is taken over
   double min_valid_fraction = 0.05;  // fewer valid beams than this over the window: blind [0..1]
+
+  Status validate() const;
 };
 
 // Lidar: a beam is valid when it is a measurement: a range within [range_min, range_max], +inf
@@ -46,6 +49,8 @@ struct FrameHealthConfig {
   int blank_frames = 6;           // consecutive blank frames before the fault
   double frozen_motion_m = 0.05;  // the image may not stay identical over this much travel [m]
   double frozen_turn_rad = 0.05;  // ... or this much turning [rad]
+
+  Status validate() const;
 };
 
 enum class FrameVerdict : std::uint8_t { Ok, Blank, Frozen };
@@ -74,6 +79,8 @@ struct ImuHealthConfig {
   int out_of_range_samples = 3;     // consecutive implausible samples before the fault
   double frozen_s = 0.5;            // a sample (stamp and values) may not repeat this long [s]
   double frozen_min_turn_change_radps = 0.2;  // odometry yaw rate change the IMU must follow
+
+  Status validate() const;
 };
 
 enum class ImuVerdict : std::uint8_t { Ok, OutOfRange, Frozen };

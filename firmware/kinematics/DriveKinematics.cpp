@@ -54,3 +54,17 @@ Twist DriveKinematics::forward_delta(const double* wheel_delta_rad) const {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+Status DriveGeometry::validate() const {
+  return Checks("drive")
+      .range("wheel_radius_m", wheel_radius_m, 0.005, 2.0, "m")
+      .range("wheelbase_m", wheelbase_m, 0.0, 10.0, "m")
+      .range("track_m", track_m, 0.01, 10.0, "m")
+      .fail_if(type == DriveType::Mecanum && !(wheelbase_m > 0.0), "wheelbase_m",
+               "a mecanum robot needs a wheelbase > 0 m")
+      .result();
+}
+
+}  // namespace carril::fw

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/Status.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -16,6 +17,8 @@ struct DriveGeometry {
   double wheel_radius_m = 0.1;  // [m]
   double wheelbase_m = 0.4;     // front-rear axle distance (mecanum) [m]
   double track_m = 0.4;         // left-right wheel distance [m]
+
+  Status validate() const;
 };
 
 class DriveKinematics {

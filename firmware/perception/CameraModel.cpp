@@ -55,3 +55,19 @@ bool CameraModel::pixel_to_floor(const Vec2& px, Vec2& floor) const {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+Status CameraMount::validate() const {
+  return Checks("camera")
+      .range("x_m", x_m, -5.0, 5.0, "m")
+      .range("y_m", y_m, -5.0, 5.0, "m")
+      .range("z_m", z_m, 0.02, 5.0, "m")
+      .range("tilt_rad", tilt_rad, 0.05, 1.57, "rad")
+      .range("hfov_rad", hfov_rad, 0.05, 3.0, "rad")
+      .range("width", width, 16, hal::kMaxImageWidth, "px")
+      .range("height", height, 16, hal::kMaxImageHeight, "px")
+      .result();
+}
+
+}  // namespace carril::fw

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/Status.hpp"
 
 namespace carril::fw {
 
@@ -14,6 +15,8 @@ struct CameraMount {
   double tilt_rad = 0.8;                   // optical axis below horizontal [rad]
   double hfov_rad = 1.0;                   // horizontal field of view [rad]
   int width = 640, height = 480;           // [px]
+
+  Status validate() const;
 };
 
 class CameraModel {

@@ -284,3 +284,26 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
 }
 
 }  // namespace carril::fw
+
+namespace carril::fw {
+
+namespace {
+void check_threshold(Checks& c, const char* which, const ColorThreshold& t) {
+  c.fail_if(t.h_hi > 179, which, "hue above 179 (OpenCV's 0..179 hue)")
+      .fail_if(t.h_lo > t.h_hi || t.s_lo > t.s_hi || t.v_lo > t.v_hi, which,
+               "a lower bound above its upper bound");
+}
+}  // namespace
+
+Status LineDetectorConfig::validate() const {
+  Checks c("detector");
+  check_threshold(c, "line", line);
+  check_threshold(c, "end", end);
+  return c.fail_if(decimation != 1 && decimation != 2 && decimation != 4, "decimation",
+                   "expected 1, 2 or 4")
+      .range("min_area_px", min_area_px, 0.0, 1e7, "px")
+      .range("min_end_area_px", min_end_area_px, 0.0, 1e7, "px")
+      .result();
+}
+
+}  // namespace carril::fw

@@ -34,6 +34,8 @@ struct LineDetectorConfig {
   double min_area_px = 0;      // minimum blob area in full-resolution pixels; 0 = 6000 scaled by
                                // the image area relative to 640x480 (the thesis's value)
   double min_end_area_px = 0;  // minimum end-mark area; 0 = 1500 scaled the same way
+
+  Status validate() const;
 };
 
 // One connected blob of the mask, in full-resolution pixel coordinates.

@@ -87,13 +87,13 @@ bool SimRun::step() {
   ++tick_;
 
   // Score the state reached at the end of this period.
-  const fw::MissionState st = topo_.controller->state();
+  const fw::LineState st = topo_.controller->state();
   TickSample s;
   s.t_s = sim_time_s();
   s.pose = topo_.world.pose();
   topo_.world.body_velocity(s.vx_mps, s.vy_mps, s.wz_radps);
-  s.following = st == fw::MissionState::Follow;
-  s.in_end_state = st == fw::MissionState::End;
+  s.following = st == fw::LineState::Follow;
+  s.in_end_state = st == fw::LineState::End;
   const double ct = metrics_.add(s);
   rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps,
                    fw::state_name(st), ct});
@@ -105,7 +105,7 @@ bool SimRun::step() {
 
   if (metrics_.end_reached()) {
     result_ = "end_reached";
-  } else if (st == fw::MissionState::Fault) {
+  } else if (st == fw::LineState::Fault) {
     // Keep simulating for a second so the quick stop shows in the trajectory.
     if (fault_at_s_ < 0) fault_at_s_ = s.t_s;
     if (s.t_s - fault_at_s_ >= 1.0) result_ = "fault";

@@ -46,7 +46,7 @@ walls:
 }
 
 // Steps `run` until the firmware is in `state` (true) or the run ends (false).
-inline bool run_until_state(SimRun& run, fw::MissionState state) {
+inline bool run_until_state(SimRun& run, fw::LineState state) {
   while (run.step()) {
     if (run.topology().controller->state() == state) return true;
   }

@@ -29,10 +29,10 @@ struct Outcome {
 template <typename Inject>
 Outcome run_with_fault(const Scenario& s, double inject_at_s, Inject inject,
                        const ConfigTweak& tweak = {},
-                       fw::MissionState in_state = fw::MissionState::Count) {
+                       fw::LineState in_state = fw::LineState::Count) {
   SimRun run(s, s.seed, tweak);
   Outcome o;
-  if (in_state != fw::MissionState::Count) {
+  if (in_state != fw::LineState::Count) {
     EXPECT_TRUE(test::run_until_state(run, in_state)) << fw::state_name(in_state) << " never came";
   } else {
     while (run.sim_time_s() < inject_at_s && run.step()) {
@@ -182,7 +182,7 @@ TEST(FaultInAvoid, DriveFaultStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0,
       [](SimTopology& t) { t.drives.inject_fault(1, hal::DriveFault::Overcurrent); }, {},
-      fw::MissionState::Avoid);
+      fw::LineState::Avoid);
   expect_safe_stop(o, "drive_fault", 0.02);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -190,7 +190,7 @@ TEST(FaultInAvoid, DriveFaultStopsTheRobot) {
 TEST(FaultInAvoid, CameraGoingSilentStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0, [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Silent); },
-      {}, fw::MissionState::Avoid);
+      {}, fw::LineState::Avoid);
   expect_safe_stop(o, "camera_timeout", 0.25);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -199,7 +199,7 @@ TEST(FaultInAvoid, GarbageScanStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0,
       [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::ZeroRanges); }, {},
-      fw::MissionState::Avoid);
+      fw::LineState::Avoid);
   expect_safe_stop(o, "scanner_blind", 0.30);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -208,7 +208,7 @@ TEST(FaultInSearch, DriveFaultStopsTheRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
       [](SimTopology& t) { t.drives.inject_fault(0, hal::DriveFault::HeartbeatLost); }, {},
-      fw::MissionState::Search);
+      fw::LineState::Search);
   expect_safe_stop(o, "drive_fault", 0.02);
   EXPECT_TRUE(logged_in(o, "SEARCH"));
 }
@@ -217,7 +217,7 @@ TEST(FaultInSearch, LidarGoingSilentStopsTheRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
       [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); }, {},
-      fw::MissionState::Search);
+      fw::LineState::Search);
   expect_safe_stop(o, "scanner_timeout", 0.6);
   EXPECT_TRUE(logged_in(o, "SEARCH"));
 }
@@ -226,7 +226,7 @@ TEST(FaultInSearch, FrozenCameraStopsTheTurningRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
       [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); }, {},
-      fw::MissionState::Search);
+      fw::LineState::Search);
   // The search starts turning from rest (0.2 s to reach 0.6 rad/s), then 0.05 rad of turning and
   // a frame or two.
   expect_safe_stop(o, "camera_frozen", 0.35);

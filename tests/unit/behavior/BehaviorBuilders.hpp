@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "firmware/behavior/BypassPlanner.hpp"
-#include "firmware/behavior/MissionBehavior.hpp"
+#include "firmware/behavior/LineBehavior.hpp"
 #include "firmware/control/LineController.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "hal/Types.hpp"
@@ -123,7 +123,7 @@ inline Twist integrate_pose(Pose2& p, const Twist& t, double dt) {
   return t;
 }
 
-// Closed loop around one MissionBehavior: the drives follow the command at once (the measured
+// Closed loop around one LineBehavior: the drives follow the command at once (the measured
 // twist is last tick's command), the camera sees the straight tape, the lidar scans `world` every
 // tick. `script` may change the input after the defaults are set.
 struct Sim {
@@ -133,7 +133,7 @@ struct Sim {
   bool holonomic;
   LineController line;
   BypassPlanner planner;
-  MissionBehavior mb;
+  LineBehavior mb;
   ObstacleField field;
 
   double t = 0.0;
@@ -234,7 +234,7 @@ struct Sim {
     }
     return false;
   }
-  bool run_until_state(MissionState s, int max_ticks) {
+  bool run_until_state(LineState s, int max_ticks) {
     return run_until([&] { return mb.state() == s; }, max_ticks);
   }
   bool run_until_phase(const std::string& p, int max_ticks) {

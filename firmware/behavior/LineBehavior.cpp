@@ -1,49 +1,45 @@
-#include "firmware/behavior/MissionBehavior.hpp"
+#include "firmware/behavior/LineBehavior.hpp"
 
 #include <cmath>
 
 namespace carril::fw {
 
-MissionBehavior::MissionBehavior(const BehaviorConfig& cfg, LineController& line,
+LineBehavior::LineBehavior(const BehaviorConfig& cfg, LineController& line,
                                  const BypassPlanner& planner, bool holonomic)
-    : cfg_(cfg), line_(line), planner_(planner), holonomic_(holonomic) {}
+    : cfg_(cfg),
+      line_(line),
+      planner_(planner),
+      holonomic_(holonomic),
+      path_(PathTrackerConfig{2.0, cfg.search_yaw_rate_radps, 0.04}, holonomic) {}
 
-void MissionBehavior::enter(MissionState s, Phase phase, double t_s) {
+void LineBehavior::enter(LineState s, Phase phase, double t_s) {
   state_ = s;
   no_track_since_s_ = -1.0;  // the pid grace period belongs to one stay in FOLLOW
   since_s_ = t_s;
   set_phase(phase);
 }
 
-void MissionBehavior::set_phase(Phase phase) {
+void LineBehavior::set_phase(Phase phase) {
   if (phase != phase_) {
     phase_ = phase;
     phase_changed_ = true;
   }
 }
 
-const char* MissionBehavior::take_phase_change() {
+const char* LineBehavior::take_phase_change() {
   if (!phase_changed_) return nullptr;
   phase_changed_ = false;
   return phase_name(phase_);
 }
 
-Twist MissionBehavior::turn_to(double yaw, double target) const {
-  const double e = wrap_angle(target - yaw);
-  return {0.0, 0.0, clampd(2.0 * e, -cfg_.search_yaw_rate_radps, cfg_.search_yaw_rate_radps)};
+void LineBehavior::begin(double t_s, double yaw) {
+  started_ = true;
+  since_s_ = t_s;
+  last_yaw_ = yaw;
 }
 
-bool MissionBehavior::obstacle_ahead(const BehaviorInput& in) const {
-  return in.obstacles != nullptr && in.obstacles->valid() &&
-         in.obstacles->ahead_m(in.odom, cfg_.avoid.corridor_margin_m, 5.0) < cfg_.avoid.trigger_m;
-}
-
-BehaviorOutput MissionBehavior::step(const BehaviorInput& in, double dt) {
-  if (!started_) {
-    started_ = true;
-    since_s_ = in.t_s;
-    last_yaw_ = in.odom.yaw;
-  }
+BehaviorOutput LineBehavior::step(const BehaviorInput& in, double dt) {
+  if (!started_) begin(in.t_s, in.odom.yaw);
   if (in.fresh_frame) frames_without_line_ = in.line_visible ? 0 : frames_without_line_ + 1;
   if (in.fresh_frame && in.line_visible) {
     line_seen_s_ = in.t_s;
@@ -54,24 +50,24 @@ BehaviorOutput MissionBehavior::step(const BehaviorInput& in, double dt) {
   last_yaw_ = in.odom.yaw;
 
   switch (state_) {
-    case MissionState::Start:
+    case LineState::Start:
       return start(in);
-    case MissionState::Follow:
+    case LineState::Follow:
       return follow(in, dt);
-    case MissionState::Search:
+    case LineState::Search:
       return search(in);
-    case MissionState::Avoid:
+    case LineState::Avoid:
       return avoid(in);
-    case MissionState::End:
+    case LineState::End:
       return end(in);
-    case MissionState::Fault:
-    case MissionState::Count:
+    case LineState::Fault:
+    case LineState::Count:
       break;
   }
   return {};
 }
 
-BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
+BehaviorOutput LineBehavior::start(const BehaviorInput& in) {
   BehaviorOutput out;
   if (phase_ == Phase::Wait) {
     if (in.drives_ready && in.camera_ready && in.scanner_ready) {
@@ -81,7 +77,7 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
       out.fault = !in.drives_ready   ? Fault::DriveEnableTimeout
                   : !in.camera_ready ? Fault::CameraTimeout
                                      : Fault::ScannerTimeout;
-      enter(MissionState::Fault, Phase::Stopped, in.t_s);
+      enter(LineState::Fault, Phase::Stopped, in.t_s);
     }
     return out;
   }
@@ -91,7 +87,7 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
       if (std::fabs(in.line_near.y()) < cfg_.start_on_tape_lateral_m &&
           std::fabs(in.line_near_angle) < cfg_.start_on_tape_angle_rad) {
         line_.reset();
-        enter(MissionState::Follow, Phase::Track, in.t_s);
+        enter(LineState::Follow, Phase::Track, in.t_s);
         return out;
       }
       start_target_ = to_world(in.odom, in.line_near);
@@ -99,7 +95,7 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
       set_phase(Phase::Approach);
     } else if (turned_ > cfg_.start_max_turn_rad) {
       out.fault = Fault::LineNotFound;
-      enter(MissionState::Fault, Phase::Stopped, in.t_s);
+      enter(LineState::Fault, Phase::Stopped, in.t_s);
     } else {
       out.twist.wz = cfg_.search_yaw_rate_radps;  // turn on the spot, looking for tape
     }
@@ -108,21 +104,21 @@ BehaviorOutput MissionBehavior::start(const BehaviorInput& in) {
   if (phase_ == Phase::Approach) {
     // Drive to the nearest tape point that was in view, holding the tape's heading there.
     bool reached = false;
-    out.twist = drive_to(in.odom, start_target_, align_heading_, holonomic_, 0.2, reached);
+    out.twist = path_.drive_to(in.odom, start_target_, align_heading_, 0.2, reached);
     if (reached) set_phase(Phase::Align);
     return out;
   }
   // align: face along the tape, then follow it.
   if (std::fabs(wrap_angle(align_heading_ - in.odom.yaw)) > cfg_.align_tolerance_rad) {
-    out.twist = turn_to(in.odom.yaw, align_heading_);
+    out.twist = path_.turn_to(in.odom, align_heading_);
     return out;
   }
   line_.reset();
-  enter(MissionState::Follow, Phase::Track, in.t_s);
+  enter(LineState::Follow, Phase::Track, in.t_s);
   return out;
 }
 
-void MissionBehavior::begin_search(const BehaviorInput& in) {
+void LineBehavior::begin_search(const BehaviorInput& in) {
   ++line_lost_;
   search_origin_yaw_ = in.odom.yaw;
   // Kept for the search: the map itself is cleared, then refilled by whatever comes into view.
@@ -131,12 +127,12 @@ void MissionBehavior::begin_search(const BehaviorInput& in) {
     for (const Vec2& p : in.tape->points()) lost_path_.push_back(p);
   }
   line_.reset();
-  enter(MissionState::Search, Phase::Left, in.t_s);
+  enter(LineState::Search, Phase::Left, in.t_s);
 }
 
-BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
+BehaviorOutput LineBehavior::follow(const BehaviorInput& in, double dt) {
   BehaviorOutput out;
-  if (obstacle_ahead(in)) {
+  if (in.obstacle_ahead) {
     // Pass along the line of the tape where it runs into the obstacle: just after a curve that
     // differs from the direction under the robot (where the thesis's line_priority failed).
     if (in.tape_far_valid) {
@@ -146,11 +142,11 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
       align_heading_ = in.track.valid ? in.track.tape_heading_odom : in.odom.yaw;
       align_point_ = to_world(in.odom, Vec2(0.0, in.track.valid ? in.track.lateral_m : 0.0));
     }
-    enter(MissionState::Avoid, Phase::Stop, in.t_s);
+    enter(LineState::Avoid, Phase::Stop, in.t_s);
     return out;  // zero twist: brake
   }
   if (in.end_known && (in.end_odom - Vec2(in.odom.x, in.odom.y)).norm() < cfg_.end_approach_m) {
-    enter(MissionState::End, Phase::Approach, in.t_s);
+    enter(LineState::End, Phase::Approach, in.t_s);
     return end(in);
   }
   // Memory is left while there is tape ahead, or while the robot is still turning onto the last
@@ -175,7 +171,7 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
   }
   no_track_since_s_ = -1.0;
   if (end_within_reach(in)) {
-    enter(MissionState::End, Phase::Approach, in.t_s);
+    enter(LineState::End, Phase::Approach, in.t_s);
     return end(in);
   }
   begin_search(in);
@@ -183,7 +179,7 @@ BehaviorOutput MissionBehavior::follow(const BehaviorInput& in, double dt) {
   return out;
 }
 
-bool MissionBehavior::sighting_runs_backwards(const BehaviorInput& in) const {
+bool LineBehavior::sighting_runs_backwards(const BehaviorInput& in) const {
   if (lost_path_.size() < 2) return false;
   // The nearest visible tape point and its direction (near to far), odometry frame.
   const Vec2 p = to_world(in.odom, in.line_near);
@@ -208,14 +204,14 @@ bool MissionBehavior::sighting_runs_backwards(const BehaviorInput& in) const {
   return on_path && dir.dot(path_dir) < 0.0;
 }
 
-bool MissionBehavior::end_within_reach(const BehaviorInput& in) const {
+bool LineBehavior::end_within_reach(const BehaviorInput& in) const {
   return in.end_known && (in.end_odom - Vec2(in.odom.x, in.odom.y)).norm() < cfg_.end_reach_m;
 }
 
-BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
+BehaviorOutput LineBehavior::search(const BehaviorInput& in) {
   BehaviorOutput out;
   if (end_within_reach(in)) {
-    enter(MissionState::End, Phase::Approach, in.t_s);
+    enter(LineState::End, Phase::Approach, in.t_s);
     return end(in);
   }
   if (in.fresh_frame && in.line_visible && in.track.valid && sighting_runs_backwards(in)) {
@@ -226,7 +222,7 @@ BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
   } else if (in.fresh_frame && in.line_visible && in.track.valid) {
     ++line_reacquired_;
     line_.reset();
-    enter(MissionState::Follow, Phase::Track, in.t_s);
+    enter(LineState::Follow, Phase::Track, in.t_s);
     return out;
   }
   // The thesis's search: up to 90 deg left; then 180 deg right; then 90 deg more, heading back.
@@ -251,14 +247,14 @@ BehaviorOutput MissionBehavior::search(const BehaviorInput& in) {
   // back: turn right until heading the way the robot came (origin - 180 deg).
   if (std::fabs(wrap_angle(in.odom.yaw - (search_origin_yaw_ + kPi))) < tol) {
     out.fault = Fault::LineNotFound;
-    enter(MissionState::Fault, Phase::Stopped, in.t_s);
+    enter(LineState::Fault, Phase::Stopped, in.t_s);
     return out;
   }
   out.twist.wz = -cfg_.search_yaw_rate_radps;
   return out;
 }
 
-BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
+BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
   BehaviorOutput out;
   const Phase p = phase_;
   if (p == Phase::Stop) {
@@ -269,18 +265,18 @@ BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
   }
   if (p == Phase::Align) {
     if (std::fabs(wrap_angle(align_heading_ - in.odom.yaw)) > cfg_.align_tolerance_rad) {
-      out.twist = turn_to(in.odom.yaw, align_heading_);
+      out.twist = path_.turn_to(in.odom, align_heading_);
       return out;
     }
     // Plan on the newest scan (taken after the robot stopped turning, or close enough).
     plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_);
     if (plan_.blocked) {
       out.fault = Fault::PathBlocked;
-      enter(MissionState::Fault, Phase::Stopped, in.t_s);
+      enter(LineState::Fault, Phase::Stopped, in.t_s);
       return out;
     }
     if (!plan_.ok) {  // nothing ahead any more
-      enter(MissionState::Follow, Phase::Track, in.t_s);
+      enter(LineState::Follow, Phase::Track, in.t_s);
       return out;
     }
     waypoint_ = 0;
@@ -295,52 +291,68 @@ BehaviorOutput MissionBehavior::avoid(const BehaviorInput& in) {
       if (blocked_since_s_ < 0) blocked_since_s_ = in.t_s;
       if (in.t_s - blocked_since_s_ > cfg_.avoid.blocked_timeout_s) {
         out.fault = Fault::PathBlocked;
-        enter(MissionState::Fault, Phase::Stopped, in.t_s);
+        enter(LineState::Fault, Phase::Stopped, in.t_s);
       }
       return out;
     }
     blocked_since_s_ = -1.0;
-    bool reached = false;
-    out.twist = drive_to(in.odom, plan_.waypoints[waypoint_], plan_.heading, holonomic_,
-                         cfg_.avoid.speed_mps, reached);
-    if (reached) {
-      ++waypoint_;
-      if (waypoint_ >= plan_.waypoints.size()) set_phase(Phase::Rejoin);
-    }
+    bool done = false;
+    out.twist = path_.follow(in.odom, plan_.waypoints.begin(), plan_.waypoints.size(), waypoint_,
+                             plan_.heading, cfg_.avoid.speed_mps, done);
+    if (done) set_phase(Phase::Rejoin);
     return out;
   }
   // rejoin: face along the tape again, then follow what the camera sees from here.
   if (std::fabs(wrap_angle(plan_.heading - in.odom.yaw)) > cfg_.align_tolerance_rad) {
-    out.twist = turn_to(in.odom.yaw, plan_.heading);
+    out.twist = path_.turn_to(in.odom, plan_.heading);
     return out;
   }
   out.clear_map = true;
   ++obstacles_avoided_;
   line_.reset();
   frames_without_line_ = 0;
-  enter(MissionState::Follow, Phase::Track, in.t_s);
+  enter(LineState::Follow, Phase::Track, in.t_s);
   return out;
 }
 
-BehaviorOutput MissionBehavior::end(const BehaviorInput& in) {
+BehaviorOutput LineBehavior::end(const BehaviorInput& in) {
   BehaviorOutput out;
   if (end_done_) return out;
-  const Vec2 e = to_robot(in.odom, in.end_odom);
-  const double d = e.norm();
   // Stop on the mark: within tolerance, or (differential) once it is beside or behind the centre.
-  if (d < cfg_.end_tolerance_m || (!holonomic_ && e.x() <= 0.0 && d < 0.05)) {
+  bool arrived = false;
+  out.twist = path_.approach(in.odom, in.end_odom, cfg_.end_speed_mps, cfg_.end_gain,
+                             cfg_.end_tolerance_m, arrived);
+  if (arrived) {
     end_done_ = true;
     set_phase(Phase::Stopped);
-    return out;
-  }
-  const double v = std::fmin(cfg_.end_speed_mps, cfg_.end_gain * d);
-  if (holonomic_) {
-    out.twist = {v * e.x() / d, v * e.y() / d, 0.0};
-  } else {
-    const double bearing = std::atan2(e.y(), e.x());
-    out.twist = {v * std::fmax(0.0, std::cos(bearing)), 0.0, clampd(2.0 * bearing, -0.8, 0.8)};
   }
   return out;
+}
+
+}  // namespace carril::fw
+
+namespace carril::fw {
+
+Status BehaviorConfig::validate() const {
+  return Checks("behavior")
+      .range("init_timeout_s", init_timeout_s, 0.1, 60.0, "s")
+      .range("search_yaw_rate_radps", search_yaw_rate_radps, 0.05, 5.0, "rad/s")
+      .range("start_max_turn_rad", start_max_turn_rad, 0.5, 20.0, "rad")
+      .range("lost_frames", lost_frames, 1, 100, "frames")
+      .range("memory_trust_m", memory_trust_m, 0.05, 10.0, "m")
+      .range("memory_trust_s", memory_trust_s, 0.1, 100.0, "s")
+      .range("pid_lost_grace_s", pid_lost_grace_s, 0.0, 10.0, "s")
+      .range("end_approach_m", end_approach_m, 0.05, 5.0, "m")
+      .range("end_speed_mps", end_speed_mps, 0.01, 2.0, "m/s")
+      .range("end_gain", end_gain, 0.1, 20.0, "1/s")
+      .range("end_tolerance_m", end_tolerance_m, 0.0005, 0.5, "m")
+      .range("align_tolerance_rad", align_tolerance_rad, 0.001, 0.5, "rad")
+      .range("start_on_tape_lateral_m", start_on_tape_lateral_m, 0.0, 1.0, "m")
+      .range("start_on_tape_angle_rad", start_on_tape_angle_rad, 0.0, 1.6, "rad")
+      .range("reacquire_on_path_m", reacquire_on_path_m, 0.0, 5.0, "m")
+      .range("end_reach_m", end_reach_m, 0.0, 20.0, "m")
+      .nested(avoid.validate())
+      .result();
 }
 
 }  // namespace carril::fw

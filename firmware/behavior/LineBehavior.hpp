@@ -6,8 +6,10 @@
 
 #include "firmware/core/Faults.hpp"
 #include "firmware/behavior/BypassPlanner.hpp"
-#include "firmware/behavior/MissionState.hpp"
+#include "firmware/behavior/LineState.hpp"
 #include "firmware/control/LineController.hpp"
+#include "firmware/control/PathTracker.hpp"
+#include "firmware/core/Status.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "firmware/perception/TapeMap.hpp"
 
@@ -63,9 +65,11 @@ struct BehaviorConfig {
   // rather than search (a short tail after a corner may never fill the camera's view) [m].
   double end_reach_m = 2.0;
   AvoidConfig avoid;
+
+  Status validate() const;
 };
 
-// One tick's view of the world, assembled by the Controller.
+// One tick's view of the world, assembled by FollowLineMission from the data bus.
 struct BehaviorInput {
   double t_s = 0.0;
   bool drives_ready = false;
@@ -76,6 +80,7 @@ struct BehaviorInput {
   Vec2 line_near = Vec2::Zero();  // nearest visible tape point, robot frame [m]
   double line_near_angle = 0.0;   // tape direction there, relative to the robot's x [rad]
   bool fresh_scan = false;        // a scan was processed this tick
+  bool obstacle_ahead = false;    // the mission runner sees an obstacle ahead (asked in FOLLOW)
   TrackState track;               // the robot against the remembered tape
   bool tape_far_valid = false;    // the farthest remembered stretch of tape (where it runs into an
   Vec2 tape_far_point = Vec2::Zero();  // obstacle, if one stands on it), odometry frame
@@ -94,14 +99,16 @@ struct BehaviorOutput {
   Fault fault = Fault::None;
 };
 
-class MissionBehavior {
+class LineBehavior {
  public:
-  MissionBehavior(const BehaviorConfig& cfg, LineController& line, const BypassPlanner& planner,
+  LineBehavior(const BehaviorConfig& cfg, LineController& line, const BypassPlanner& planner,
                   bool holonomic);
 
+  // Starts the mission clock at `t_s` with the robot heading `yaw` [rad] (else the first step does).
+  void begin(double t_s, double yaw);
   BehaviorOutput step(const BehaviorInput& in, double dt_s);
 
-  MissionState state() const { return state_; }
+  LineState state() const { return state_; }
   const char* phase() const { return phase_name(phase_); }
   bool end_done() const { return end_done_; }
   std::uint32_t line_lost_events() const { return line_lost_; }
@@ -114,26 +121,25 @@ class MissionBehavior {
   const char* take_phase_change();
 
  private:
-  void enter(MissionState s, Phase phase, double t_s);
+  void enter(LineState s, Phase phase, double t_s);
   void set_phase(Phase phase);
   BehaviorOutput start(const BehaviorInput& in);
   BehaviorOutput follow(const BehaviorInput& in, double dt);
   BehaviorOutput search(const BehaviorInput& in);
   BehaviorOutput avoid(const BehaviorInput& in);
   BehaviorOutput end(const BehaviorInput& in);
-  bool obstacle_ahead(const BehaviorInput& in) const;
   void begin_search(const BehaviorInput& in);
   // The tape in view lies on the tape remembered at the loss but points back along it.
   bool sighting_runs_backwards(const BehaviorInput& in) const;
   // The end mark is known and close enough to be where the tape ends.
   bool end_within_reach(const BehaviorInput& in) const;
-  Twist turn_to(double yaw, double target) const;
 
   BehaviorConfig cfg_;
   LineController& line_;
   const BypassPlanner& planner_;
   bool holonomic_;
-  MissionState state_ = MissionState::Start;
+  PathTracker path_;
+  LineState state_ = LineState::Start;
   Phase phase_ = Phase::Wait;
   bool phase_changed_ = false;
   double since_s_ = 0.0;

@@ -1,6 +1,6 @@
-// MissionBehavior, driven tick by tick: FOLLOW (to END and SEARCH; the pid grace turn) and
+// LineBehavior, driven tick by tick: FOLLOW (to END and SEARCH; the pid grace turn) and
 // SEARCH (left, right, back, LineNotFound; reacquiring the tape in each phase).
-#include "firmware/behavior/MissionBehavior.hpp"
+#include "firmware/behavior/LineBehavior.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@ using test::StraightTape;
 // ---------------------------------------------------------------------------------------------
 // FOLLOW
 
-TEST(MissionBehaviorFollowTest, CommandsTheLineController) {
+TEST(LineBehaviorFollowTest, CommandsTheLineController) {
   Sim s(true);
   s.tape.p0 = Vec2(0.0, 0.05);
   s.start_on_tape();
@@ -31,7 +31,7 @@ TEST(MissionBehaviorFollowTest, CommandsTheLineController) {
     const TrackState t = s.tape.track(s.pose, s.scfg.marks_lookahead_m);
     const Twist want = ref.follow(t, kDt);
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Follow);
+    ASSERT_EQ(s.mb.state(), LineState::Follow);
     EXPECT_DOUBLE_EQ(s.out.twist.vx, want.vx);
     EXPECT_DOUBLE_EQ(s.out.twist.vy, want.vy);
     EXPECT_DOUBLE_EQ(s.out.twist.wz, want.wz);
@@ -39,23 +39,23 @@ TEST(MissionBehaviorFollowTest, CommandsTheLineController) {
   EXPECT_GT(s.pose.x, 0.05);
 }
 
-TEST(MissionBehaviorFollowTest, KeepsGoingOnMemoryWhenTheViewIsEmpty) {
+TEST(LineBehaviorFollowTest, KeepsGoingOnMemoryWhenTheViewIsEmpty) {
   Sim s(false);
   s.start_on_tape();
   s.tape_in_view = false;  // the map still holds tape ahead
   for (int i = 0; i < 50; ++i) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Follow);
+    ASSERT_EQ(s.mb.state(), LineState::Follow);
     EXPECT_GT(s.out.twist.vx, 0.0);
   }
 }
 
-TEST(MissionBehaviorFollowTest, ToEndWhenTheMarkIsClose) {
+TEST(LineBehaviorFollowTest, ToEndWhenTheMarkIsClose) {
   Sim s(false);
   s.end_known = true;
   s.end_odom = Vec2(2.0, 0.0);
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::End, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::End, 1000));
   const double d = (s.end_odom - Vec2(s.last_in.odom.x, s.last_in.odom.y)).norm();
   EXPECT_LT(d, s.cfg.end_approach_m);
   EXPECT_GT(d, s.cfg.end_approach_m - 0.01);
@@ -63,17 +63,17 @@ TEST(MissionBehaviorFollowTest, ToEndWhenTheMarkIsClose) {
   EXPECT_GT(s.out.twist.vx, 0.0);  // the first END tick already drives toward the mark
 }
 
-TEST(MissionBehaviorFollowTest, IgnoresAnUnknownEndMark) {
+TEST(LineBehaviorFollowTest, IgnoresAnUnknownEndMark) {
   Sim s(false);
   s.end_odom = Vec2(1.0, 0.0);  // end_known false: a stale position must not count
   s.start_on_tape();
   for (int i = 0; i < 400; ++i) s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_GT(s.pose.x, 1.0);
 }
 
 // Memory exhausted (map empty) and lost_frames fresh frames without tape: SEARCH.
-TEST(MissionBehaviorFollowTest, ToSearchAfterLostFrames) {
+TEST(LineBehaviorFollowTest, ToSearchAfterLostFrames) {
   Sim s(false);
   s.start_on_tape();
   s.frame_every = 2;
@@ -84,23 +84,23 @@ TEST(MissionBehaviorFollowTest, ToSearchAfterLostFrames) {
   // Fresh frames now on every even tick: the third one (the fifth tick) starts the search.
   for (int i = 0; i < 4; ++i) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Follow) << "tick " << i;
+    ASSERT_EQ(s.mb.state(), LineState::Follow) << "tick " << i;
     EXPECT_FALSE(s.out.clear_map);
     EXPECT_EQ(s.mb.line_lost_events(), 0U);
   }
   s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Search);
+  EXPECT_EQ(s.mb.state(), LineState::Search);
   EXPECT_STREQ(s.mb.phase(), "left");
   EXPECT_TRUE(s.out.clear_map);
   EXPECT_EQ(s.mb.line_lost_events(), 1U);
   EXPECT_EQ(s.mb.line_reacquired_events(), 0U);
 }
 
-TEST(MissionBehaviorFollowTest, ToSearchAtTheEndOfRememberedTape) {
+TEST(LineBehaviorFollowTest, ToSearchAtTheEndOfRememberedTape) {
   Sim s(false);
   s.tape.end_s = 2.0;
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::Search, 3000));
+  ASSERT_TRUE(s.run_until_state(LineState::Search, 3000));
   const double remaining = s.tape.end_s - s.tape.along(s.last_in.odom);
   EXPECT_LT(remaining, 0.05 + 1e-9);
   EXPECT_GT(remaining, 0.0);
@@ -110,15 +110,15 @@ TEST(MissionBehaviorFollowTest, ToSearchAtTheEndOfRememberedTape) {
 }
 
 // pid: first turns toward the side of the last error for pid_lost_grace_s, then searches.
-class MissionBehaviorPidLost : public testing::TestWithParam<double> {};
+class LineBehaviorPidLost : public testing::TestWithParam<double> {};
 
-TEST_P(MissionBehaviorPidLost, GraceTurnTowardTheLastError) {
+TEST_P(LineBehaviorPidLost, GraceTurnTowardTheLastError) {
   const double side = GetParam();
   Sim s(false, Strategy::Pid);
   s.tape.p0 = Vec2(0.0, 0.1 * side);
   s.start_on_tape();
   for (int i = 0; i < 5; ++i) s.step();
-  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_EQ(s.mb.state(), LineState::Follow);
   LineController ref(s.scfg, false);
   TrackState t;
   t.valid = true;
@@ -132,24 +132,24 @@ TEST_P(MissionBehaviorPidLost, GraceTurnTowardTheLastError) {
   s.tape_in_map = false;
   s.step();
   s.step();
-  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_EQ(s.mb.state(), LineState::Follow);
   s.step();  // third frame without tape: the grace period starts
   const double t0 = s.last_in.t_s;
   int grace_ticks = 0;
-  while (s.mb.state() == MissionState::Follow && grace_ticks < 500) {
+  while (s.mb.state() == LineState::Follow && grace_ticks < 500) {
     EXPECT_DOUBLE_EQ(s.out.twist.vx, lost.vx);
     EXPECT_DOUBLE_EQ(s.out.twist.wz, lost.wz);
     EXPECT_GT(s.out.twist.wz * side, 0.0);
     ++grace_ticks;
     s.step();
   }
-  EXPECT_EQ(s.mb.state(), MissionState::Search);
+  EXPECT_EQ(s.mb.state(), LineState::Search);
   EXPECT_NEAR(s.last_in.t_s - t0, s.cfg.pid_lost_grace_s, 0.015);
   EXPECT_TRUE(s.out.clear_map);
   EXPECT_EQ(s.mb.line_lost_events(), 1U);
 }
 
-INSTANTIATE_TEST_SUITE_P(Side, MissionBehaviorPidLost, testing::Values(1.0, -1.0),
+INSTANTIATE_TEST_SUITE_P(Side, LineBehaviorPidLost, testing::Values(1.0, -1.0),
                          [](const auto& i) { return i.param > 0 ? "Left" : "Right"; });
 
 // ---------------------------------------------------------------------------------------------
@@ -160,15 +160,15 @@ void lose_tape(Sim& s, double yaw) {
   s.pose.yaw = yaw;
   s.tape.h = yaw;
   s.start_on_tape();
-  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_EQ(s.mb.state(), LineState::Follow);
   s.tape_in_view = false;
   s.tape_in_map = false;
-  ASSERT_TRUE(s.run_until_state(MissionState::Search, 3));
+  ASSERT_TRUE(s.run_until_state(LineState::Search, 3));
 }
 
-class MissionBehaviorSearch : public testing::TestWithParam<double> {};
+class LineBehaviorSearch : public testing::TestWithParam<double> {};
 
-TEST_P(MissionBehaviorSearch, LeftRightBackThenLineNotFound) {
+TEST_P(LineBehaviorSearch, LeftRightBackThenLineNotFound) {
   Sim s(false);
   lose_tape(s, GetParam());
   const double origin = s.last_in.odom.yaw;
@@ -196,7 +196,7 @@ TEST_P(MissionBehaviorSearch, LeftRightBackThenLineNotFound) {
       2000));
   EXPECT_NEAR(rel(), -kPi / 2 + tol, w * kDt + 1e-9);
 
-  ASSERT_TRUE(s.run_until_state(MissionState::Fault, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Fault, 1000));
   EXPECT_LT(std::fabs(wrap_angle(rel() - kPi)), tol);
   EXPECT_STREQ(s.mb.phase(), "stopped");
   ASSERT_EQ(s.faults.size(), 1U);
@@ -207,11 +207,11 @@ TEST_P(MissionBehaviorSearch, LeftRightBackThenLineNotFound) {
   EXPECT_DOUBLE_EQ(s.pose.x, s.last_in.odom.x);  // turned on the spot
 }
 
-INSTANTIATE_TEST_SUITE_P(Origin, MissionBehaviorSearch, testing::Values(0.0, 0.3, 3.0, -2.8));
+INSTANTIATE_TEST_SUITE_P(Origin, LineBehaviorSearch, testing::Values(0.0, 0.3, 3.0, -2.8));
 
-class MissionBehaviorReacquire : public testing::TestWithParam<const char*> {};
+class LineBehaviorReacquire : public testing::TestWithParam<const char*> {};
 
-TEST_P(MissionBehaviorReacquire, FreshFrameWithTapeReturnsToFollow) {
+TEST_P(LineBehaviorReacquire, FreshFrameWithTapeReturnsToFollow) {
   const std::string phase = GetParam();
   Sim s(true);
   lose_tape(s, 0.2);
@@ -224,18 +224,18 @@ TEST_P(MissionBehaviorReacquire, FreshFrameWithTapeReturnsToFollow) {
     in.line_visible = true;
   };
   s.step();
-  ASSERT_EQ(s.mb.state(), MissionState::Search);
+  ASSERT_EQ(s.mb.state(), LineState::Search);
   s.script = nullptr;
   s.tape_in_view = true;
   s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_STREQ(s.mb.phase(), "track");
   EXPECT_EQ(s.mb.line_reacquired_events(), 1U);
   EXPECT_EQ(s.mb.line_lost_events(), 1U);
   EXPECT_EQ(s.phases.back(), "track");
 }
 
-INSTANTIATE_TEST_SUITE_P(Phase, MissionBehaviorReacquire, testing::Values("left", "right", "back"),
+INSTANTIATE_TEST_SUITE_P(Phase, LineBehaviorReacquire, testing::Values("left", "right", "back"),
                          [](const auto& i) { return std::string(i.param); });
 
 // The tape lost along +x from the origin, remembered in path order (direction `dir` = +1) or
@@ -266,35 +266,35 @@ Sim& search_seeing_tape_behind(Sim& s, const TapeMap& map) {
       in.track = StraightTape{Vec2::Zero(), kPi}.track(in.odom, 0.5);
     }
   };
-  s.run_until([&] { return s.mb.state() != MissionState::Search; }, 6000);
+  s.run_until([&] { return s.mb.state() != LineState::Search; }, 6000);
   return s;
 }
 
-TEST(MissionBehaviorSearchDirection, TapeAlreadyTravelledSeenBackwardsIsNotFollowed) {
+TEST(LineBehaviorSearchDirection, TapeAlreadyTravelledSeenBackwardsIsNotFollowed) {
   Sim s(true);
   const TapeMap map = remembered_tape(+1.0);
   // The map is handed over when the search begins, so it must be in the input from the start.
   s.script = [&map](BehaviorInput& in) { in.tape = &map; };
   search_seeing_tape_behind(s, map);
-  EXPECT_EQ(s.mb.state(), MissionState::Fault);
+  EXPECT_EQ(s.mb.state(), LineState::Fault);
   ASSERT_EQ(s.faults.size(), 1U);
   EXPECT_EQ(s.faults[0], Fault::LineNotFound);
   EXPECT_GT(s.mb.reversed_sightings(), 0U);
   EXPECT_EQ(s.mb.line_reacquired_events(), 0U);
 }
 
-TEST(MissionBehaviorSearchDirection, SameSightingAgreeingWithTheMemoryIsFollowed) {
+TEST(LineBehaviorSearchDirection, SameSightingAgreeingWithTheMemoryIsFollowed) {
   // Control: remembered the other way round, the same sighting runs the way of travel.
   Sim s(true);
   const TapeMap map = remembered_tape(-1.0);
   s.script = [&map](BehaviorInput& in) { in.tape = &map; };
   search_seeing_tape_behind(s, map);
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_EQ(s.mb.reversed_sightings(), 0U);
   EXPECT_EQ(s.mb.line_reacquired_events(), 1U);
 }
 
-TEST(MissionBehaviorSearchDirection, NewTapeOffTheRememberedPathIsFollowed) {
+TEST(LineBehaviorSearchDirection, NewTapeOffTheRememberedPathIsFollowed) {
   // A sighting more than reacquire_on_path_m from the remembered tape is new tape, whatever way
   // it runs (a corner's next leg).
   Sim s(true);
@@ -310,12 +310,12 @@ TEST(MissionBehaviorSearchDirection, NewTapeOffTheRememberedPathIsFollowed) {
       in.track = StraightTape{Vec2(in.odom.x, 0.0), kPi / 2}.track(in.odom, 0.5);
     }
   };
-  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Search; }, 6000));
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Search; }, 6000));
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_EQ(s.mb.reversed_sightings(), 0U);
 }
 
-TEST(MissionBehaviorEndReach, TapeRunningOutNearAKnownEndMarkGoesToEnd) {
+TEST(LineBehaviorEndReach, TapeRunningOutNearAKnownEndMarkGoesToEnd) {
   // A short tail after a corner: the tape runs out of view 1.5 m before the mark it ends at.
   Sim s(false);
   s.start_on_tape();
@@ -323,30 +323,30 @@ TEST(MissionBehaviorEndReach, TapeRunningOutNearAKnownEndMarkGoesToEnd) {
   s.end_odom = Vec2(s.pose.x + 1.5, 0.0);
   s.tape_in_view = false;
   s.tape_in_map = false;
-  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Follow; }, 100));
-  EXPECT_EQ(s.mb.state(), MissionState::End);
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Follow; }, 100));
+  EXPECT_EQ(s.mb.state(), LineState::End);
   EXPECT_EQ(s.mb.line_lost_events(), 0U);
 }
 
-TEST(MissionBehaviorEndReach, AFarEndMarkDoesNotStopTheSearch) {
+TEST(LineBehaviorEndReach, AFarEndMarkDoesNotStopTheSearch) {
   Sim s(false);
   s.start_on_tape();
   s.end_known = true;
   s.end_odom = Vec2(s.pose.x + s.cfg.end_reach_m + 0.5, 0.0);
   s.tape_in_view = false;
   s.tape_in_map = false;
-  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != MissionState::Follow; }, 100));
-  EXPECT_EQ(s.mb.state(), MissionState::Search);
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Follow; }, 100));
+  EXPECT_EQ(s.mb.state(), LineState::Search);
 }
 
-TEST(MissionBehaviorEndReach, EndMarkComingIntoViewDuringTheSearchEndsIt) {
+TEST(LineBehaviorEndReach, EndMarkComingIntoViewDuringTheSearchEndsIt) {
   Sim s(false);
   lose_tape(s, 0.0);
   ASSERT_TRUE(s.run_until_phase("right", 2000));
   s.end_known = true;
   s.end_odom = Vec2(s.pose.x + 0.5, s.pose.y - 1.0);
   s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::End);
+  EXPECT_EQ(s.mb.state(), LineState::End);
   ASSERT_TRUE(s.run_until([&] { return s.mb.end_done(); }, 3000));
   EXPECT_LT((s.end_odom - Vec2(s.pose.x, s.pose.y)).norm(), 0.05);
 }

@@ -1,4 +1,4 @@
-// MissionBehavior AVOID: stop, align, plan, bypass (with refinement and the emergency stop),
+// LineBehavior AVOID: stop, align, plan, bypass (with refinement and the emergency stop),
 // rejoin; the scans are ray-cast against boxes and walls from the simulated pose every tick.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "firmware/behavior/MissionBehavior.hpp"
+#include "firmware/behavior/LineBehavior.hpp"
 #include "tests/unit/behavior/BehaviorBuilders.hpp"
 
 namespace carril::fw {
@@ -29,11 +29,11 @@ Phases avoid_phases(const Sim& s) {
   return Phases(it, s.phases.end());
 }
 
-TEST(MissionBehaviorAvoidTest, ObstacleAheadStopsTheRobot) {
+TEST(LineBehaviorAvoidTest, ObstacleAheadStopsTheRobot) {
   Sim s(true);
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::Avoid, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Avoid, 1000));
   EXPECT_STREQ(s.mb.phase(), "stop");
   EXPECT_LT(ahead(s), s.cfg.avoid.trigger_m);
   EXPECT_GT(ahead(s), s.cfg.avoid.trigger_m - 0.01);  // the first tick it was that close
@@ -42,7 +42,7 @@ TEST(MissionBehaviorAvoidTest, ObstacleAheadStopsTheRobot) {
   EXPECT_FALSE(s.out.clear_map);
 }
 
-TEST(MissionBehaviorAvoidTest, ObstacleBesideTheCorridorIsIgnored) {
+TEST(LineBehaviorAvoidTest, ObstacleBesideTheCorridorIsIgnored) {
   Sim s(false);
   // Corridor: robot half-width 0.25 + margin 0.10; this box starts 0.12 m outside it.
   add_box(s.world, 1.0, 1.5, 0.47, 0.9);
@@ -50,16 +50,16 @@ TEST(MissionBehaviorAvoidTest, ObstacleBesideTheCorridorIsIgnored) {
   s.start_on_tape();
   for (int i = 0; i < 700; ++i) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Follow) << "x=" << s.pose.x;
+    ASSERT_EQ(s.mb.state(), LineState::Follow) << "x=" << s.pose.x;
   }
   EXPECT_GT(s.pose.x, 3.0);
 }
 
-TEST(MissionBehaviorAvoidTest, StopWaitsUntilTheMeasuredTwistIsZero) {
+TEST(LineBehaviorAvoidTest, StopWaitsUntilTheMeasuredTwistIsZero) {
   Sim s(false);
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::Avoid, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Avoid, 1000));
   for (const Twist m :
        {Twist{0.1, 0, 0}, Twist{0.0, 0.03, 0.0}, Twist{0.0, 0.0, 0.08}, Twist{-0.05, 0, 0}}) {
     s.script = [m](BehaviorInput& in) { in.measured = m; };
@@ -71,21 +71,21 @@ TEST(MissionBehaviorAvoidTest, StopWaitsUntilTheMeasuredTwistIsZero) {
   }
   s.script = [](BehaviorInput& in) { in.measured = {0.015, -0.015, 0.04}; };  // still enough
   s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Avoid);
+  EXPECT_EQ(s.mb.state(), LineState::Avoid);
   EXPECT_STREQ(s.mb.phase(), "align");
 }
 
 // The tape frame comes from the far end of the remembered tape when there is one (where it runs
 // into the obstacle), else from the track under the robot.
-class MissionBehaviorAvoidAlign : public testing::TestWithParam<bool> {};
+class LineBehaviorAvoidAlign : public testing::TestWithParam<bool> {};
 
-TEST_P(MissionBehaviorAvoidAlign, TurnsToTheTapeHeadingBeforePlanning) {
+TEST_P(LineBehaviorAvoidAlign, TurnsToTheTapeHeadingBeforePlanning) {
   Sim s(false);
   s.far_from_map = GetParam();
   s.pose = Pose2{1.0, 0.0, 0.2};  // on the tape, turned 0.2 rad to its left
   add_box(s.world, 1.6, 2.6, -0.5, 0.5);
   s.start_on_tape();
-  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_EQ(s.mb.state(), LineState::Follow);
   ASSERT_TRUE(s.run_until_phase("align", 5));
   const Pose2 p0 = s.pose;
   ASSERT_TRUE(s.run_until(
@@ -108,12 +108,12 @@ TEST_P(MissionBehaviorAvoidAlign, TurnsToTheTapeHeadingBeforePlanning) {
   EXPECT_NEAR(std::fabs(s.mb.bypass().lateral), 0.5 + 0.3 + 0.25, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(TapeFrom, MissionBehaviorAvoidAlign, testing::Values(true, false),
+INSTANTIATE_TEST_SUITE_P(TapeFrom, LineBehaviorAvoidAlign, testing::Values(true, false),
                          [](const auto& i) { return i.param ? "FarSegment" : "Track"; });
 
 // The tape turns 0.6 rad left at x = 1.6 and the box stands on the new stretch: the bypass runs
 // along that stretch, not along the robot's heading.
-TEST(MissionBehaviorAvoidTest, PassesAlongTheTapeWhereItRunsIntoTheObstacle) {
+TEST(LineBehaviorAvoidTest, PassesAlongTheTapeWhereItRunsIntoTheObstacle) {
   Sim s(true);
   const double h = 0.6;
   const Vec2 bend(1.6, 0.0), u(std::cos(h), std::sin(h));
@@ -149,13 +149,13 @@ TEST(MissionBehaviorAvoidTest, PassesAlongTheTapeWhereItRunsIntoTheObstacle) {
   EXPECT_TRUE(s.faults.empty());
 }
 
-TEST(MissionBehaviorAvoidTest, NoRoomEitherSideFaultsPathBlocked) {
+TEST(LineBehaviorAvoidTest, NoRoomEitherSideFaultsPathBlocked) {
   Sim s(true);
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   add_wall(s.world, {-1.0, 1.3}, {6.0, 1.3});  // 0.8 m beside the box: less than 1.1 m needed
   add_wall(s.world, {-1.0, -1.3}, {6.0, -1.3});
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::Fault, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Fault, 1000));
   EXPECT_TRUE(s.mb.bypass().blocked);
   ASSERT_EQ(s.faults.size(), 1U);
   EXPECT_EQ(s.faults[0], Fault::PathBlocked);
@@ -167,20 +167,20 @@ TEST(MissionBehaviorAvoidTest, NoRoomEitherSideFaultsPathBlocked) {
   EXPECT_EQ(s.faults.size(), 1U);
 }
 
-TEST(MissionBehaviorAvoidTest, ObstacleGoneBeforePlanningFollowsAgain) {
+TEST(LineBehaviorAvoidTest, ObstacleGoneBeforePlanningFollowsAgain) {
   Sim s(true);
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::Avoid, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Avoid, 1000));
   s.world.clear();  // it walked away
-  ASSERT_TRUE(s.run_until_state(MissionState::Follow, 10));
+  ASSERT_TRUE(s.run_until_state(LineState::Follow, 10));
   EXPECT_STREQ(s.mb.phase(), "track");
   EXPECT_FALSE(s.mb.bypass().ok);
   EXPECT_FALSE(s.mb.bypass().blocked);
   EXPECT_EQ(s.mb.obstacles_avoided(), 0U);
   EXPECT_EQ(avoid_phases(s), Phases({"stop", "align", "track"}));
   for (int i = 0; i < 50; ++i) s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_GT(s.out.twist.vx, 0.0);
 }
 
@@ -200,7 +200,7 @@ BypassRun run_bypass(Sim& s) {
   bool planned = false;
   const bool done = s.run_until(
       [&] {
-        if (s.mb.state() == MissionState::Avoid && std::string(s.mb.phase()) != "stop" &&
+        if (s.mb.state() == LineState::Avoid && std::string(s.mb.phase()) != "stop" &&
             std::string(s.mb.phase()) != "align") {
           if (!planned) r.x_far_at_plan = s.mb.bypass().x_far;
           planned = true;
@@ -213,7 +213,7 @@ BypassRun run_bypass(Sim& s) {
           r.max_yaw_dev = std::fmax(r.max_yaw_dev, std::fabs(wrap_angle(s.pose.yaw)));
         }
         if (s.mb.obstacles_avoided() > 0) r.rejoin_clear_map = s.out.clear_map;
-        return s.mb.obstacles_avoided() > 0 || s.mb.state() == MissionState::Fault;
+        return s.mb.obstacles_avoided() > 0 || s.mb.state() == LineState::Fault;
       },
       8000);
   EXPECT_TRUE(done);
@@ -228,14 +228,14 @@ int first_visit(const std::vector<Pose2>& poses, const Vec2& p, double tol) {
   return -1;
 }
 
-class MissionBehaviorAvoidBypass : public testing::TestWithParam<bool> {};
+class LineBehaviorAvoidBypass : public testing::TestWithParam<bool> {};
 
-TEST_P(MissionBehaviorAvoidBypass, PassesTheBoxAndRejoinsTheTape) {
+TEST_P(LineBehaviorAvoidBypass, PassesTheBoxAndRejoinsTheTape) {
   const bool holo = GetParam();
   Sim s(holo);
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   const BypassRun r = run_bypass(s);
-  ASSERT_EQ(s.mb.state(), MissionState::Follow);
+  ASSERT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_STREQ(s.mb.phase(), "track");
   EXPECT_EQ(s.mb.obstacles_avoided(), 1U);
   EXPECT_TRUE(r.rejoin_clear_map);
@@ -266,12 +266,12 @@ TEST_P(MissionBehaviorAvoidBypass, PassesTheBoxAndRejoinsTheTape) {
   // Following on, the box behind does not trigger again.
   for (int i = 0; i < 300; ++i) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Follow);
+    ASSERT_EQ(s.mb.state(), LineState::Follow);
   }
   EXPECT_EQ(s.mb.obstacles_avoided(), 1U);
 }
 
-TEST_P(MissionBehaviorAvoidBypass, RefinesThePlanWhenTheBoxTurnsOutDeeper) {
+TEST_P(LineBehaviorAvoidBypass, RefinesThePlanWhenTheBoxTurnsOutDeeper) {
   const bool holo = GetParam();
   Sim s(holo);
   add_box(s.world, 2.0, 4.0, -0.5, 0.5);  // 2 m deep: the first view assumes 1 m
@@ -289,7 +289,7 @@ TEST_P(MissionBehaviorAvoidBypass, RefinesThePlanWhenTheBoxTurnsOutDeeper) {
   EXPECT_TRUE(s.faults.empty());
 }
 
-TEST_P(MissionBehaviorAvoidBypass, MovesTheLaneOutWhenTheBoxWidensBehindItsFront) {
+TEST_P(LineBehaviorAvoidBypass, MovesTheLaneOutWhenTheBoxWidensBehindItsFront) {
   Sim s(GetParam());
   add_box(s.world, 2.0, 3.0, -0.5, 0.5);
   add_box(s.world, 3.0, 3.6, -0.5, 0.62);  // hidden behind the front from the stop point
@@ -301,7 +301,7 @@ TEST_P(MissionBehaviorAvoidBypass, MovesTheLaneOutWhenTheBoxWidensBehindItsFront
   EXPECT_TRUE(s.faults.empty());
 }
 
-INSTANTIATE_TEST_SUITE_P(Drive, MissionBehaviorAvoidBypass, testing::Values(true, false),
+INSTANTIATE_TEST_SUITE_P(Drive, LineBehaviorAvoidBypass, testing::Values(true, false),
                          [](const auto& i) { return i.param ? "Holonomic" : "Differential"; });
 
 // Runs until the bypass has started and moved a little; returns the bypass side (+1 left).
@@ -313,7 +313,7 @@ int into_bypass(Sim& s) {
   return s.mb.bypass().side;
 }
 
-TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyStopsThenFaults) {
+TEST(LineBehaviorAvoidTest, SomethingAgainstTheBodyStopsThenFaults) {
   Sim s(true);
   const int side = into_bypass(s);
   ASSERT_NE(side, 0);
@@ -326,8 +326,8 @@ TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyStopsThenFaults) {
   ASSERT_TRUE(s.run_until(
       [&] {
         if (t0 < 0) t0 = s.last_in.t_s;
-        if (s.mb.state() == MissionState::Avoid) expect_still(s.out.twist);
-        return s.mb.state() == MissionState::Fault;
+        if (s.mb.state() == LineState::Avoid) expect_still(s.out.twist);
+        return s.mb.state() == LineState::Fault;
       },
       1000));
   EXPECT_LT(s.field.clearance_m(s.last_in.odom), s.cfg.avoid.emergency_m);
@@ -339,7 +339,7 @@ TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyStopsThenFaults) {
   EXPECT_STREQ(s.mb.phase(), "stopped");
 }
 
-TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyThatLeavesLetsTheBypassGoOn) {
+TEST(LineBehaviorAvoidTest, SomethingAgainstTheBodyThatLeavesLetsTheBypassGoOn) {
   Sim s(true);
   const int side = into_bypass(s);
   const double y = s.pose.y + side * (0.25 + 0.02);
@@ -347,7 +347,7 @@ TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyThatLeavesLetsTheBypassGoO
   add_box(s.world, s.pose.x - 0.015, s.pose.x + 0.015, std::fmin(y, y2), std::fmax(y, y2));
   for (int i = 0; i < 200; ++i) {  // 2 s, under blocked_timeout_s
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Avoid);
+    ASSERT_EQ(s.mb.state(), LineState::Avoid);
     expect_still(s.out.twist);
   }
   s.world.resize(4);  // the pole goes; the box stays
@@ -357,10 +357,10 @@ TEST(MissionBehaviorAvoidTest, SomethingAgainstTheBodyThatLeavesLetsTheBypassGoO
   const std::size_t box_only = s.world.size();
   add_box(s.world, s.pose.x - 0.015, s.pose.x + 0.015, std::fmin(y, y2), std::fmax(y, y2));
   for (int i = 0; i < 200; ++i) s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Avoid);
+  EXPECT_EQ(s.mb.state(), LineState::Avoid);
   s.world.resize(box_only);
   ASSERT_TRUE(s.run_until([&] { return s.mb.obstacles_avoided() > 0; }, 6000));
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_TRUE(s.faults.empty());
 }
 

@@ -1,6 +1,6 @@
-// MissionBehavior, driven tick by tick: START, END and the phase log. FOLLOW and SEARCH are in
-// MissionFollowSearchTest.cpp, AVOID in MissionAvoidTest.cpp.
-#include "firmware/behavior/MissionBehavior.hpp"
+// LineBehavior, driven tick by tick: START, END and the phase log. FOLLOW and SEARCH are in
+// LineFollowSearchTest.cpp, AVOID in LineAvoidTest.cpp.
+#include "firmware/behavior/LineBehavior.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,18 +21,18 @@ using test::Sim;
 // ---------------------------------------------------------------------------------------------
 // START
 
-TEST(MissionBehaviorTest, WaitsUntilDrivesCameraAndScannerAreReady) {
+TEST(LineBehaviorTest, WaitsUntilDrivesCameraAndScannerAreReady) {
   Sim s(false);
   s.drives = false;
   for (int i = 0; i < 50; ++i) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Start);
+    ASSERT_EQ(s.mb.state(), LineState::Start);
     ASSERT_STREQ(s.mb.phase(), "wait");
     expect_still(s.out.twist);
   }
   s.drives = true;
   s.step();
-  EXPECT_EQ(s.mb.state(), MissionState::Start);
+  EXPECT_EQ(s.mb.state(), LineState::Start);
   EXPECT_STREQ(s.mb.phase(), "find");
   EXPECT_TRUE(s.faults.empty());
   EXPECT_EQ(s.phases, Phases({"find"}));
@@ -43,9 +43,9 @@ struct TimeoutCase {
   Fault expect;
 };
 
-class MissionBehaviorStartTimeout : public testing::TestWithParam<TimeoutCase> {};
+class LineBehaviorStartTimeout : public testing::TestWithParam<TimeoutCase> {};
 
-TEST_P(MissionBehaviorStartTimeout, FaultsAfterInitTimeout) {
+TEST_P(LineBehaviorStartTimeout, FaultsAfterInitTimeout) {
   const TimeoutCase c = GetParam();
   Sim s(true);
   s.drives = c.drives;
@@ -53,9 +53,9 @@ TEST_P(MissionBehaviorStartTimeout, FaultsAfterInitTimeout) {
   s.scanner = c.scanner;
   while (s.t < s.cfg.init_timeout_s - 0.005) {
     s.step();
-    ASSERT_EQ(s.mb.state(), MissionState::Start) << "t=" << s.last_in.t_s;
+    ASSERT_EQ(s.mb.state(), LineState::Start) << "t=" << s.last_in.t_s;
   }
-  ASSERT_TRUE(s.run_until_state(MissionState::Fault, 3));
+  ASSERT_TRUE(s.run_until_state(LineState::Fault, 3));
   EXPECT_GT(s.last_in.t_s, s.cfg.init_timeout_s);
   EXPECT_STREQ(s.mb.phase(), "stopped");
   ASSERT_EQ(s.faults.size(), 1U);
@@ -66,11 +66,11 @@ TEST_P(MissionBehaviorStartTimeout, FaultsAfterInitTimeout) {
     expect_still(s.out.twist);
   }
   EXPECT_EQ(s.faults.size(), 1U);
-  EXPECT_EQ(s.mb.state(), MissionState::Fault);
+  EXPECT_EQ(s.mb.state(), LineState::Fault);
   EXPECT_EQ(s.phases, Phases({"stopped"}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Missing, MissionBehaviorStartTimeout,
+INSTANTIATE_TEST_SUITE_P(Missing, LineBehaviorStartTimeout,
                          testing::Values(TimeoutCase{false, true, true, Fault::DriveEnableTimeout},
                                          TimeoutCase{false, false, false,
                                                      Fault::DriveEnableTimeout},
@@ -78,10 +78,10 @@ INSTANTIATE_TEST_SUITE_P(Missing, MissionBehaviorStartTimeout,
                                          TimeoutCase{true, false, false, Fault::CameraTimeout},
                                          TimeoutCase{true, true, false, Fault::ScannerTimeout}));
 
-TEST(MissionBehaviorTest, FindFollowsAtOnceWhenOnTheTape) {
+TEST(LineBehaviorTest, FindFollowsAtOnceWhenOnTheTape) {
   Sim s(false);
   s.start_on_tape();
-  EXPECT_EQ(s.mb.state(), MissionState::Follow);
+  EXPECT_EQ(s.mb.state(), LineState::Follow);
   EXPECT_STREQ(s.mb.phase(), "track");
   EXPECT_EQ(s.phases, Phases({"find", "track"}));
   EXPECT_EQ(s.mb.line_lost_events(), 0U);
@@ -89,7 +89,7 @@ TEST(MissionBehaviorTest, FindFollowsAtOnceWhenOnTheTape) {
   EXPECT_EQ(s.mb.obstacles_avoided(), 0U);
 }
 
-TEST(MissionBehaviorTest, FindOnTapeThresholds) {
+TEST(LineBehaviorTest, FindOnTapeThresholds) {
   struct Case {
     double y, angle;
     bool direct;
@@ -103,29 +103,29 @@ TEST(MissionBehaviorTest, FindOnTapeThresholds) {
       in.line_near_angle = c.angle;
     };
     s.start_on_tape();
-    EXPECT_EQ(s.mb.state(), c.direct ? MissionState::Follow : MissionState::Start)
+    EXPECT_EQ(s.mb.state(), c.direct ? LineState::Follow : LineState::Start)
         << "y=" << c.y << " angle=" << c.angle;
     EXPECT_STREQ(s.mb.phase(), c.direct ? "track" : "approach");
   }
 }
 
 // Tape off to one side: drive onto its nearest visible point, face along it, follow.
-class MissionBehaviorApproach : public testing::TestWithParam<bool> {};
+class LineBehaviorApproach : public testing::TestWithParam<bool> {};
 
-TEST_P(MissionBehaviorApproach, ParallelTapeToTheLeft) {
+TEST_P(LineBehaviorApproach, ParallelTapeToTheLeft) {
   Sim s(GetParam());
   s.tape.p0 = Vec2(0.0, 0.5);
   s.step();
   s.step();
   ASSERT_STREQ(s.mb.phase(), "approach");
   const Vec2 target(0.7, 0.5);  // the nearest visible tape point, odometry frame
-  ASSERT_TRUE(s.run_until_state(MissionState::Follow, 3000));
+  ASSERT_TRUE(s.run_until_state(LineState::Follow, 3000));
   EXPECT_EQ(s.phases, Phases({"find", "approach", "align", "track"}));
   EXPECT_LT((Vec2(s.pose.x, s.pose.y) - target).norm(), 0.045);
   EXPECT_LT(std::fabs(wrap_angle(s.pose.yaw - 0.0)), s.cfg.align_tolerance_rad + 1e-9);
 }
 
-TEST_P(MissionBehaviorApproach, TapeCrossingAtAnAngle) {
+TEST_P(LineBehaviorApproach, TapeCrossingAtAnAngle) {
   const bool holo = GetParam();
   Sim s(holo);
   s.tape.p0 = Vec2(0.8, 0.0);
@@ -141,7 +141,7 @@ TEST_P(MissionBehaviorApproach, TapeCrossingAtAnAngle) {
           translated_in_align = true;
         if (std::string(s.mb.phase()) == "approach" && s.out.twist.wz != 0.0)
           turned_in_approach = true;
-        return s.mb.state() == MissionState::Follow;
+        return s.mb.state() == LineState::Follow;
       },
       3000));
   EXPECT_EQ(s.phases, Phases({"find", "approach", "align", "track"}));
@@ -151,10 +151,10 @@ TEST_P(MissionBehaviorApproach, TapeCrossingAtAnAngle) {
   EXPECT_TRUE(turned_in_approach);  // holonomic: turns while translating; differential: first
 }
 
-INSTANTIATE_TEST_SUITE_P(Drive, MissionBehaviorApproach, testing::Values(true, false),
+INSTANTIATE_TEST_SUITE_P(Drive, LineBehaviorApproach, testing::Values(true, false),
                          [](const auto& i) { return i.param ? "Holonomic" : "Differential"; });
 
-TEST(MissionBehaviorTest, FindTurnsOnTheSpotWithoutTape) {
+TEST(LineBehaviorTest, FindTurnsOnTheSpotWithoutTape) {
   Sim s(false);
   s.tape_in_view = false;
   s.step();
@@ -170,17 +170,17 @@ TEST(MissionBehaviorTest, FindTurnsOnTheSpotWithoutTape) {
   EXPECT_DOUBLE_EQ(s.pose.y, 0.0);
 }
 
-TEST(MissionBehaviorTest, FindGivesUpAfterMaxTurn) {
+TEST(LineBehaviorTest, FindGivesUpAfterMaxTurn) {
   Sim s(true);
   s.tape_in_view = false;
   double turned = 0.0;
   ASSERT_TRUE(s.run_until(
       [&] {
         turned += std::fabs(s.out.twist.wz) * kDt;
-        return s.mb.state() != MissionState::Start;
+        return s.mb.state() != LineState::Start;
       },
       5000));
-  EXPECT_EQ(s.mb.state(), MissionState::Fault);
+  EXPECT_EQ(s.mb.state(), LineState::Fault);
   EXPECT_STREQ(s.mb.phase(), "stopped");
   ASSERT_EQ(s.faults.size(), 1U);
   EXPECT_EQ(s.faults[0], Fault::LineNotFound);
@@ -188,7 +188,7 @@ TEST(MissionBehaviorTest, FindGivesUpAfterMaxTurn) {
   EXPECT_EQ(s.phases, Phases({"find", "stopped"}));
 }
 
-TEST(MissionBehaviorTest, FindStopsTurningWhenTapeComesIntoView) {
+TEST(LineBehaviorTest, FindStopsTurningWhenTapeComesIntoView) {
   Sim s(false);
   s.tape_in_view = false;
   s.script = [&](BehaviorInput& in) {
@@ -198,7 +198,7 @@ TEST(MissionBehaviorTest, FindStopsTurningWhenTapeComesIntoView) {
       in.line_near_angle = 0.1;
     }
   };
-  ASSERT_TRUE(s.run_until_state(MissionState::Follow, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::Follow, 1000));
   EXPECT_NEAR(s.pose.yaw, 1.2, 0.01);
   EXPECT_EQ(s.phases, Phases({"find", "track"}));
 }
@@ -206,15 +206,15 @@ TEST(MissionBehaviorTest, FindStopsTurningWhenTapeComesIntoView) {
 // ---------------------------------------------------------------------------------------------
 // END
 
-class MissionBehaviorEnd : public testing::TestWithParam<bool> {};
+class LineBehaviorEnd : public testing::TestWithParam<bool> {};
 
-TEST_P(MissionBehaviorEnd, DrivesOntoTheMarkAndStops) {
+TEST_P(LineBehaviorEnd, DrivesOntoTheMarkAndStops) {
   const bool holo = GetParam();
   Sim s(holo);
   s.end_known = true;
   s.end_odom = Vec2(1.6, 0.08);
   s.start_on_tape();
-  ASSERT_TRUE(s.run_until_state(MissionState::End, 1000));
+  ASSERT_TRUE(s.run_until_state(LineState::End, 1000));
   s.step();
   // Toward the mark, which is ahead and a little to the left.
   const Vec2 e = to_robot(s.last_in.odom, s.end_odom);
@@ -239,22 +239,22 @@ TEST_P(MissionBehaviorEnd, DrivesOntoTheMarkAndStops) {
   }
   EXPECT_EQ(s.pose.x, stop.x);
   EXPECT_EQ(s.pose.y, stop.y);
-  EXPECT_EQ(s.mb.state(), MissionState::End);
+  EXPECT_EQ(s.mb.state(), LineState::End);
   EXPECT_TRUE(s.faults.empty());
   EXPECT_EQ(s.phases, Phases({"find", "track", "approach", "stopped"}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Drive, MissionBehaviorEnd, testing::Values(true, false),
+INSTANTIATE_TEST_SUITE_P(Drive, LineBehaviorEnd, testing::Values(true, false),
                          [](const auto& i) { return i.param ? "Holonomic" : "Differential"; });
 
 // ---------------------------------------------------------------------------------------------
 // Phase log
 
-TEST(MissionBehaviorTest, TakePhaseChangeReturnsEachNewPhaseOnce) {
+TEST(LineBehaviorTest, TakePhaseChangeReturnsEachNewPhaseOnce) {
   BehaviorConfig cfg;
   LineController line(StrategyConfig{}, false);
   BypassPlanner planner(cfg.avoid, Footprint{});
-  MissionBehavior mb(cfg, line, planner, false);
+  LineBehavior mb(cfg, line, planner, false);
   EXPECT_EQ(mb.take_phase_change(), nullptr);
   BehaviorInput in;
   in.drives_ready = in.camera_ready = in.scanner_ready = true;

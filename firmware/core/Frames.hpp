@@ -24,6 +24,15 @@ enum class DriveRequest : std::uint8_t {
   QuickStop,  // brake to zero and hold (safe stop)
 };
 
+// Every one of the first `wheels` drives reports Operation enabled.
+inline bool drives_enabled(const hal::WheelFeedbackSet& fb, int wheels) {
+  if (fb.count < wheels) return false;
+  for (int i = 0; i < wheels; ++i) {
+    if (fb.wheel[i].state != hal::DriveState::Enabled) return false;
+  }
+  return true;
+}
+
 struct ActuatorCommand {
   DriveRequest drive = DriveRequest::QuickStop;
   std::uint8_t wheel_count = 0;

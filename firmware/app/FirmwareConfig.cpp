@@ -1,0 +1,37 @@
+#include "firmware/app/FirmwareConfig.hpp"
+
+#include <algorithm>
+
+namespace carril::fw {
+
+Status FirmwareConfig::validate() const {
+  Checks c("robot");
+  c.range("control_rate_hz", rate_hz, 1.0, 10000.0, "Hz")
+      .range("footprint_length_m", footprint_length_m, 0.05, 10.0, "m")
+      .range("footprint_width_m", footprint_width_m, 0.05, 10.0, "m")
+      .nested(drive.validate())
+      .nested(limits.validate())
+      .nested(camera.validate())
+      .nested(watch.validate())
+      .nested(runner.validate())
+      .nested(follow_line.validate());
+  if (lidar.present) c.nested(lidar.validate());
+  // A sensor faster than the tick would have frames the firmware never looks at.
+  c.fail_if(camera.rate_hz > rate_hz, "camera.rate_hz", "faster than the control rate")
+      .fail_if(lidar.present && lidar.rate_hz > rate_hz, "lidar.rate_hz",
+               "faster than the control rate");
+  return c.result();
+}
+
+void apply_sensor_rates(FirmwareConfig& c) {
+  c.watch.camera_timeout_s = std::max(0.2, 3.0 / c.camera.rate_hz);
+  c.watch.scanner_timeout_s = std::max(0.5, 5.0 / c.lidar.rate_hz);
+  c.watch.lidar_present = c.lidar.present;
+  const int scans = static_cast<int>(c.lidar.rate_hz * 0.25 + 0.5);
+  c.lidar.health.window_scans = std::clamp(scans, 2, ScanHealth::kMaxWindow);
+  const int frames = static_cast<int>(c.camera.rate_hz * 0.2 + 0.5);
+  c.camera.health.blank_frames = std::max(frames, 2);
+  c.watch.imu.max_yaw_rate_radps = 4.0 * c.limits.max_yaw_rate_radps;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,35 @@
+#pragma once
+// The data bus of the line-following firmware: one topic per message, in the order data flows.
+// Each has exactly one producer; consumers read it through their own Reader (firmware/core/Topic).
+//
+//   topic       message          producer         consumers
+//   frame       SensorFrame      Controller       SensorWatch, WheelOdometry, LinePerception,
+//                                                 ObstacleSensing, MissionRunner, MotionOutput
+//   odometry    OdometryMsg      WheelOdometry    SensorWatch, LinePerception, ObstacleSensing,
+//                                                 FollowLineMission, MissionRunner (guard)
+//   line        LineObservation  LinePerception   FollowLineMission
+//   obstacles   ObstacleField    ObstacleSensing  FollowLineMission, MissionRunner (guard)
+//   motion      MotionRequest    MissionRunner    MotionOutput
+//   command     ActuatorCommand  MotionOutput     Controller (to the drives)
+#include "firmware/control/MotionRequest.hpp"
+#include "firmware/core/Frames.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/perception/LinePerception.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+
+namespace carril::fw {
+
+struct LineBus {
+  LineBus(const Footprint& fp, double lidar_x, double lidar_y, double lidar_yaw)
+      : obstacles(fp, lidar_x, lidar_y, lidar_yaw) {}
+
+  Topic<SensorFrame> frame;
+  Topic<OdometryMsg> odometry;
+  Topic<LineObservation> line;
+  Topic<ObstacleField> obstacles;
+  Topic<MotionRequest> motion;
+  Topic<ActuatorCommand> command;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,44 @@
+#include "firmware/app/LineFirmware.hpp"
+
+#include <cstring>
+
+namespace carril::fw {
+
+LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
+    : kinematics(cfg.drive),
+      bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad),
+      controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
+      watch(cfg.watch, bus.frame, bus.odometry, controller),
+      odometry(kinematics, bus.frame, bus.odometry),
+      perception(cfg.camera, bus.frame, bus.odometry, bus.line, controller),
+      obstacle_sensing(cfg.lidar, bus.frame, bus.odometry, bus.obstacles, controller),
+      mission(cfg.follow_line, cfg.footprint(), kinematics.holonomic(), cfg.lidar.present,
+              bus.odometry, bus.line, bus.obstacles),
+      runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), mission, bus.frame,
+             bus.odometry, bus.obstacles, bus.motion, controller),
+      output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
+             controller),
+      cfg_(cfg) {}
+
+void LineFirmware::refresh_telemetry() {
+  FirmwareTelemetry& t = telemetry_;
+  controller.fill_telemetry(t.controller);
+  t.mission = mission.name();
+  mission.counters(t.mission_counters);
+  t.runner = runner.telemetry();
+  t.watch = watch.telemetry();
+  t.perception = perception.telemetry();
+  t.obstacles = obstacle_sensing.telemetry();
+  t.odom = bus.odometry.get().pose;
+}
+
+std::uint32_t LineFirmware::mission_counter(const char* name) const {
+  MissionCounters c;
+  mission.counters(c);
+  for (const MissionCounter& m : c) {
+    if (std::strcmp(m.name, name) == 0) return m.value;
+  }
+  return 0;
+}
+
+}  // namespace carril::fw

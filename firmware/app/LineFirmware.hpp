@@ -1,0 +1,71 @@
+#pragma once
+// The line-following firmware: its data bus and every component, created from one validated
+// FirmwareConfig and connected here in the order data flows. The target's wiring file creates
+// one, declares its task table (which component runs at what rate, with what budget) and
+// drives tick() from its loop.
+#include <cstdint>
+
+#include "firmware/app/Controller.hpp"
+#include "firmware/app/FirmwareConfig.hpp"
+#include "firmware/app/LineBus.hpp"
+#include "firmware/control/MotionOutput.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/health/SensorWatch.hpp"
+#include "firmware/kinematics/DriveKinematics.hpp"
+#include "firmware/mission/FollowLineMission.hpp"
+#include "firmware/mission/MissionRunner.hpp"
+#include "firmware/perception/LinePerception.hpp"
+#include "firmware/perception/ObstacleSensing.hpp"
+#include "hal/Clock.hpp"
+
+namespace carril::fw {
+
+// Everything the firmware reports, refreshed by the telemetry task (and by refresh_telemetry()).
+struct FirmwareTelemetry {
+  ControllerTelemetry controller;
+  const char* mission = "";
+  MissionCounters mission_counters;
+  MissionRunnerTelemetry runner;
+  SensorWatchTelemetry watch;
+  LinePerceptionTelemetry perception;
+  ObstacleSensingTelemetry obstacles;
+  Pose2 odom;
+};
+
+class LineFirmware {
+ public:
+  // cfg must have passed validate() (asserted by the wiring file; see Status there).
+  LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock);
+  LineFirmware(const LineFirmware&) = delete;
+  LineFirmware& operator=(const LineFirmware&) = delete;
+
+  // One control period.
+  ActuatorCommand tick(const SensorFrame& frame) { return controller.tick(frame); }
+
+  // Task: refreshes telemetry() (percentiles included: run it at a low rate).
+  void refresh_telemetry();
+  const FirmwareTelemetry& telemetry() const { return telemetry_; }
+  const FirmwareConfig& config() const { return cfg_; }
+
+  // A mission counter by name (0 when the mission keeps none of that name).
+  std::uint32_t mission_counter(const char* name) const;
+
+  const DriveKinematics kinematics;
+  LineBus bus;
+  // The components, in the order data flows through them.
+  Controller controller;  // the schedule and the fault latch (the FaultSink of the others)
+  SensorWatch watch;
+  WheelOdometry odometry;
+  LinePerception perception;
+  ObstacleSensing obstacle_sensing;
+  FollowLineMission mission;
+  MissionRunner runner;
+  MotionOutput output;
+
+ private:
+  const FirmwareConfig cfg_;
+  FirmwareTelemetry telemetry_;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,30 @@
+#pragma once
+// Component: dead reckoning from the wheel encoders. Reads the sensor frame, publishes the
+// odometry pose and the measured body twist every tick.
+#include "firmware/core/Frames.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/Odometry.hpp"
+
+namespace carril::fw {
+
+// Odometry message: the robot in the odometry frame (origin where the firmware started).
+struct OdometryMsg {
+  Pose2 pose;    // [m, m, rad]
+  Twist twist;   // measured from wheel speeds [m/s, m/s, rad/s]
+};
+
+class WheelOdometry {
+ public:
+  WheelOdometry(const DriveKinematics& kin, const Topic<SensorFrame>& frame, Topic<OdometryMsg>& out)
+      : odom_(kin), frame_(frame), out_(out) {}
+
+  // Task: one encoder reading in, one odometry message out.
+  void run();
+
+ private:
+  Odometry odom_;
+  const Topic<SensorFrame>& frame_;
+  Topic<OdometryMsg>& out_;
+};
+
+}  // namespace carril::fw

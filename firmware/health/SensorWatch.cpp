@@ -1,0 +1,58 @@
+#include "firmware/health/SensorWatch.hpp"
+
+namespace carril::fw {
+
+Status SensorWatchConfig::validate() const {
+  return Checks("watch")
+      .range("camera_timeout_s", camera_timeout_s, 0.01, 10.0, "s")
+      .range("scanner_timeout_s", scanner_timeout_s, 0.01, 10.0, "s")
+      .nested(imu.validate())
+      .result();
+}
+
+SensorWatch::SensorWatch(const SensorWatchConfig& cfg, const Topic<SensorFrame>& frame,
+                         const Topic<OdometryMsg>& odom, FaultSink& faults)
+    : cfg_(cfg), frame_(frame), odom_(odom), faults_(faults), imu_health_(cfg.imu) {}
+
+void SensorWatch::run() {
+  const SensorFrame& f = frame_.get();
+  const double now_s = double(f.now_ns) * 1e-9;
+  for (int i = 0; i < f.wheels.count; ++i) {
+    if (f.wheels.wheel[i].state == hal::DriveState::Fault) {
+      faults_.raise(Fault::DriveFault, static_cast<std::uint16_t>(f.wheels.wheel[i].fault));
+    }
+  }
+  // A device is silent when nothing new came for its timeout; before its first sample the
+  // mission's own start-up timeout applies.
+  if (f.camera != nullptr && f.camera->seq != 0 && f.camera->seq != last_frame_seq_) {
+    last_frame_seq_ = f.camera->seq;
+    last_frame_ns_ = f.now_ns;
+    ++tel_.camera_frames;
+  }
+  if (f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_scan_seq_) {
+    last_scan_seq_ = f.scan->seq;
+    last_scan_ns_ = f.now_ns;
+    ++tel_.scans;
+  }
+  if (last_frame_seq_ != 0 && now_s - double(last_frame_ns_) * 1e-9 > cfg_.camera_timeout_s) {
+    faults_.raise(Fault::CameraTimeout);
+  }
+  if (cfg_.lidar_present && last_scan_seq_ != 0 &&
+      now_s - double(last_scan_ns_) * 1e-9 > cfg_.scanner_timeout_s) {
+    faults_.raise(Fault::ScannerTimeout);
+  }
+  if (cfg_.imu_present) {
+    switch (imu_health_.add(f.imu, now_s, odom_.get().twist.wz)) {
+      case ImuVerdict::OutOfRange:
+        faults_.raise(Fault::ImuOutOfRange);
+        break;
+      case ImuVerdict::Frozen:
+        faults_.raise(Fault::ImuFrozen);
+        break;
+      case ImuVerdict::Ok:
+        break;
+    }
+  }
+}
+
+}  // namespace carril::fw

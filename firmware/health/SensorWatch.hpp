@@ -1,0 +1,51 @@
+#pragma once
+// Component: watches that every device keeps talking. A drive that reports Fault, a camera or
+// lidar that stops publishing, and an IMU whose samples are implausible or frozen each raise
+// their fault. (What a frame or scan says is checked by the component that reads it.)
+#include <cstdint>
+
+#include "firmware/core/FaultSink.hpp"
+#include "firmware/core/Frames.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/health/SensorHealth.hpp"
+
+namespace carril::fw {
+
+struct SensorWatchConfig {
+  double camera_timeout_s = 0.5;   // no new camera frame for this long is a fault [s]
+  bool lidar_present = true;       // a lidar is fitted: its silence is a fault
+  double scanner_timeout_s = 1.0;  // no new scan for this long is a fault [s]
+  bool imu_present = true;         // an IMU is fitted: its samples are checked
+  ImuHealthConfig imu;
+
+  Status validate() const;
+};
+
+struct SensorWatchTelemetry {
+  std::uint64_t camera_frames = 0;  // new frames seen
+  std::uint64_t scans = 0;          // new scans seen
+};
+
+class SensorWatch {
+ public:
+  SensorWatch(const SensorWatchConfig& cfg, const Topic<SensorFrame>& frame,
+              const Topic<OdometryMsg>& odom, FaultSink& faults);
+
+  // Task: one look at every device.
+  void run();
+  const SensorWatchTelemetry& telemetry() const { return tel_; }
+
+ private:
+  SensorWatchConfig cfg_;
+  const Topic<SensorFrame>& frame_;
+  const Topic<OdometryMsg>& odom_;
+  FaultSink& faults_;
+  ImuHealth imu_health_;
+  std::uint32_t last_frame_seq_ = 0, last_scan_seq_ = 0;
+  hal::TimeNs last_frame_ns_ = 0, last_scan_ns_ = 0;
+  SensorWatchTelemetry tel_;
+};
+
+}  // namespace carril::fw

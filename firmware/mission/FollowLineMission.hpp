@@ -1,0 +1,63 @@
+#pragma once
+// The follow_line mission: follow the tape from wherever it is found to the end mark, searching
+// when it is lost and passing obstacles that stand on it. Its state machine is LineBehavior
+// (START, FOLLOW, SEARCH, AVOID, END, FAULT); this class feeds it from the data bus, keeps the
+// tape seen so far (TapeMap, odometry frame) and where the end mark is, and reports it through
+// the Mission interface.
+#include "firmware/behavior/BypassPlanner.hpp"
+#include "firmware/behavior/LineBehavior.hpp"
+#include "firmware/control/LineController.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mission/Mission.hpp"
+#include "firmware/perception/LinePerception.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/perception/TapeMap.hpp"
+
+namespace carril::fw {
+
+struct FollowLineConfig {
+  StrategyConfig strategy;  // which follower, its gains and the cruise speed
+  BehaviorConfig behavior;  // state machine and obstacle avoidance
+  double tape_preview_m = 0.6;  // how far ahead along the remembered tape corners are looked for [m]
+
+  Status validate() const;
+};
+
+class FollowLineMission final : public Mission {
+ public:
+  FollowLineMission(const FollowLineConfig& cfg, const Footprint& footprint, bool holonomic,
+                    bool lidar_present, const Topic<OdometryMsg>& odom,
+                    const Topic<LineObservation>& line, const Topic<ObstacleField>& obstacles);
+
+  const char* name() const override { return "follow_line"; }
+  void enter(const MissionContext& ctx) override;
+  void exit() override {}
+  MissionOutput update(const MissionContext& ctx) override;
+  MissionState state() const override;
+  const char* take_phase_change() override { return behavior_.take_phase_change(); }
+  void counters(MissionCounters& out) const override;
+
+  const LineBehavior& behavior() const { return behavior_; }
+  const TapeMap& tape() const { return map_; }
+
+ private:
+  // Tape and end mark of a new frame into memory.
+  void remember(const LineObservation& obs);
+  BehaviorInput inputs(const MissionContext& ctx);
+
+  FollowLineConfig cfg_;
+  bool lidar_present_;
+  LineController line_;
+  BypassPlanner planner_;
+  LineBehavior behavior_;
+  TapeMap map_;
+  const Topic<OdometryMsg>& odom_;
+  Reader<LineObservation> obs_;
+  Reader<ObstacleField> obstacles_;
+  bool end_known_ = false;
+  Vec2 end_odom_ = Vec2::Zero();
+};
+
+}  // namespace carril::fw

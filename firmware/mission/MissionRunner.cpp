@@ -1,0 +1,70 @@
+#include "firmware/mission/MissionRunner.hpp"
+
+namespace carril::fw {
+
+Status ObstacleStopConfig::validate() const {
+  return Checks("runner.obstacle")
+      .range("stop_m", stop_m, 0.05, 5.0, "m")
+      .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
+      .result();
+}
+
+bool ObstacleGuard::ahead() const {
+  if (!known_) {
+    const ObstacleField& f = obstacles_.get();
+    ahead_ = f.valid() &&
+             f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, 5.0) < cfg_.stop_m;
+    known_ = true;
+  }
+  return ahead_;
+}
+
+bool MissionContext::obstacle_ahead() const {
+  return guard != nullptr && guard->ahead();
+}
+
+MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count,
+                             Mission& mission, const Topic<SensorFrame>& frame,
+                             const Topic<OdometryMsg>& odom, const Topic<ObstacleField>& obstacles,
+                             Topic<MotionRequest>& out, FaultSink& faults)
+    : period_s_(period_s),
+      wheel_count_(wheel_count),
+      mission_(mission),
+      frame_(frame),
+      out_(out),
+      faults_(faults),
+      guard_(cfg.obstacle, obstacles, odom) {}
+
+void MissionRunner::run() {
+  const SensorFrame& f = frame_.get();
+  if (faults_.latched()) {
+    // Safe stop: the mission is not asked again.
+    if (!tel_.stopped) {
+      mission_.exit();
+      tel_.stopped = true;
+    }
+    out_.publish(MotionRequest{}, f.now_ns);
+    return;
+  }
+  guard_.new_tick();
+  MissionContext ctx;
+  ctx.t_s = double(f.now_ns) * 1e-9;
+  ctx.dt_s = period_s_;
+  ctx.drives_ready = drives_enabled(f.wheels, wheel_count_);
+  ctx.guard = &guard_;
+  if (!entered_) {
+    mission_.enter(ctx);
+    entered_ = true;
+  }
+  const char* was = mission_.state().name;
+  MissionOutput o = mission_.update(ctx);
+  if (o.fault != Fault::None) faults_.raise(o.fault, 0, was);
+  if (o.motion.guarded && guard_.ahead() &&
+      (o.motion.twist.vx != 0.0 || o.motion.twist.vy != 0.0)) {
+    o.motion.twist = {};
+    ++tel_.obstacle_stops;
+  }
+  out_.publish(o.motion, f.now_ns);
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,80 @@
+#pragma once
+// Component: runs the active mission. Every tick it hands the mission its context, raises the
+// mission's faults, stops a guarded motion short of an obstacle ahead (whatever the mission
+// wanted), and once any fault has latched keeps the mission stopped: the safe stop is the
+// runner's, not each mission's.
+#include <cstdint>
+
+#include "firmware/core/FaultSink.hpp"
+#include "firmware/core/Frames.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mission/Mission.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+
+namespace carril::fw {
+
+struct ObstacleStopConfig {
+  double stop_m = 0.45;             // an obstacle this close ahead of the bumper stops [m]
+  double corridor_margin_m = 0.10;  // the corridor ahead: robot width + this each side [m]
+
+  Status validate() const;
+};
+
+struct MissionRunnerConfig {
+  ObstacleStopConfig obstacle;
+
+  Status validate() const { return obstacle.validate(); }
+};
+
+// The obstacle-ahead question, answered at most once per tick (the missions and the runner's
+// own stop share the answer).
+class ObstacleGuard {
+ public:
+  ObstacleGuard(const ObstacleStopConfig& cfg, const Topic<ObstacleField>& obstacles,
+                const Topic<OdometryMsg>& odom)
+      : cfg_(cfg), obstacles_(obstacles), odom_(odom) {}
+
+  void new_tick() { known_ = false; }
+  bool ahead() const;
+
+ private:
+  ObstacleStopConfig cfg_;
+  const Topic<ObstacleField>& obstacles_;
+  const Topic<OdometryMsg>& odom_;
+  mutable bool known_ = false, ahead_ = false;
+};
+
+struct MissionRunnerTelemetry {
+  std::uint64_t obstacle_stops = 0;  // guarded motions the runner stopped for an obstacle
+  bool stopped = false;              // the mission was stopped by a fault (safe stop)
+};
+
+class MissionRunner {
+ public:
+  MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count, Mission& mission,
+                const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
+                const Topic<ObstacleField>& obstacles, Topic<MotionRequest>& out,
+                FaultSink& faults);
+
+  // Task: one mission update (or the safe stop).
+  void run();
+  const Mission& mission() const { return mission_; }
+  MissionState state() const { return mission_.state(); }
+  const char* take_phase_change() { return mission_.take_phase_change(); }
+  const MissionRunnerTelemetry& telemetry() const { return tel_; }
+
+ private:
+  double period_s_;
+  int wheel_count_;
+  Mission& mission_;
+  const Topic<SensorFrame>& frame_;
+  Topic<MotionRequest>& out_;
+  FaultSink& faults_;
+  ObstacleGuard guard_;
+  bool entered_ = false;
+  MissionRunnerTelemetry tel_;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,34 @@
+#include "firmware/perception/ObstacleSensing.hpp"
+
+namespace carril::fw {
+
+Status ObstacleSensingConfig::validate() const {
+  return Checks("lidar")
+      .range("rate_hz", rate_hz, 1.0, 1000.0, "Hz")
+      .range("x_m", x_m, -5.0, 5.0, "m")
+      .range("y_m", y_m, -5.0, 5.0, "m")
+      .range("yaw_rad", yaw_rad, -7.0, 7.0, "rad")
+      .nested(health.validate())
+      .result();
+}
+
+ObstacleSensing::ObstacleSensing(const ObstacleSensingConfig& cfg, const Topic<SensorFrame>& frame,
+                                 const Topic<OdometryMsg>& odom, Topic<ObstacleField>& out,
+                                 FaultSink& faults)
+    : health_(cfg.health), frame_(frame), odom_(odom), out_(out), faults_(faults) {}
+
+ObstacleSensingTelemetry ObstacleSensing::telemetry() const {
+  return {out_.get().invalid_beams(), health_.valid_fraction()};
+}
+
+void ObstacleSensing::run() {
+  const SensorFrame& f = frame_.get();
+  const hal::LaserScan* scan = f.scan;
+  if (scan == nullptr || scan->seq == last_seq_) return;
+  last_seq_ = scan->seq;
+  if (!health_.add(*scan)) faults_.raise(Fault::ScannerBlind);
+  out_.edit().update(*scan, odom_.get().pose);
+  out_.publish(f.now_ns);
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,49 @@
+#pragma once
+// Component: obstacles from the lidar. On every new scan: check that the lidar still measures
+// something (ScanHealth), and publish the scan as points in the odometry frame (ObstacleField),
+// which the missions and the mission runner query.
+#include <cstdint>
+
+#include "firmware/core/FaultSink.hpp"
+#include "firmware/core/Frames.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/health/SensorHealth.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+
+namespace carril::fw {
+
+struct ObstacleSensingConfig {
+  bool present = true;                         // a lidar is fitted
+  double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;  // its mount in the robot frame [m, m, rad]
+  double rate_hz = 20.0;                       // scan rate [Hz]
+  ScanHealthConfig health;
+
+  Status validate() const;
+};
+
+struct ObstacleSensingTelemetry {
+  std::uint64_t invalid_beams = 0;   // NaN, inf, zero or out-of-limits ranges seen
+  double scan_valid_fraction = 1.0;  // valid beams over the health window [0..1]
+};
+
+class ObstacleSensing {
+ public:
+  ObstacleSensing(const ObstacleSensingConfig& cfg, const Topic<SensorFrame>& frame,
+                  const Topic<OdometryMsg>& odom, Topic<ObstacleField>& out, FaultSink& faults);
+
+  // Task: converts the newest scan if it is new.
+  void run();
+  ObstacleSensingTelemetry telemetry() const;
+
+ private:
+  ScanHealth health_;
+  const Topic<SensorFrame>& frame_;
+  const Topic<OdometryMsg>& odom_;
+  Topic<ObstacleField>& out_;
+  FaultSink& faults_;
+  std::uint32_t last_seq_ = 0;
+};
+
+}  // namespace carril::fw
