@@ -6,7 +6,7 @@ void LatencyStats::add(std::int64_t ns) {
   if (ns < 0) ns = 0;
   ++count_;
   if (ns > max_ns_) max_ns_ = ns;
-  const std::int64_t bin = ns * 4 / 1000;  // 0.25 us bins
+  const std::int64_t bin = ns / bin_ns_;
   if (bin >= kBins) {
     ++overflow_;
   } else {
@@ -24,7 +24,7 @@ double LatencyStats::percentile_us(double p) const {
   for (int i = 0; i < kBins; ++i) {
     seen += bins_[static_cast<std::size_t>(i)];
     if (seen >= rank) {
-      const double edge = double(i + 1) * kBinUs;
+      const double edge = double(i + 1) * bin_us();
       return edge < max_us() ? edge : max_us();
     }
   }

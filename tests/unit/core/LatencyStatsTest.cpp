@@ -97,5 +97,21 @@ TEST(LatencyStatsTest, ResetForgetsEverything) {
   EXPECT_DOUBLE_EQ(s->percentile_us(0.99), 2.0);  // bin edge 2.25 capped at max 2.0
 }
 
+TEST(LatencyStatsTest, WideBinsCoverSlowWork) {
+  // 50 us bins reach 409.6 ms: percentiles of 10-100 ms work stay in the histogram.
+  auto s = std::make_unique<LatencyStats>(50'000);
+  EXPECT_DOUBLE_EQ(s->bin_us(), 50.0);
+  for (int ms = 1; ms <= 100; ++ms) s->add(std::int64_t{ms} * 1'000'000);
+  EXPECT_GE(s->percentile_us(0.50), 50'000.0);
+  EXPECT_LE(s->percentile_us(0.50), 50'000.0 + 50.0);
+  EXPECT_GE(s->percentile_us(0.99), 99'000.0);
+  EXPECT_LE(s->percentile_us(0.99), 99'000.0 + 50.0);
+  // Reset keeps the bin width.
+  s->reset();
+  EXPECT_DOUBLE_EQ(s->bin_us(), 50.0);
+  s->add(30'000'010);
+  EXPECT_DOUBLE_EQ(s->percentile_us(0.5), 30'000.01);  // bin edge 30050 capped at the max
+}
+
 }  // namespace
 }  // namespace carril::fw
