@@ -7,6 +7,7 @@
 
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
+#include "hal/Types.hpp"
 
 namespace carril::fw {
 

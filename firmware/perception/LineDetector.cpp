@@ -290,8 +290,9 @@ namespace carril::fw {
 namespace {
 void check_threshold(Checks& c, const char* which, const ColorThreshold& t) {
   c.fail_if(t.h_hi > 179, which, "hue above 179 (OpenCV's 0..179 hue)")
-      .fail_if(t.h_lo > t.h_hi || t.s_lo > t.s_hi || t.v_lo > t.v_hi, which,
-               "a lower bound above its upper bound");
+      .fail_if(t.h_lo > 179, which, "hue above 179 (OpenCV's 0..179 hue)")
+      .fail_if(t.s_lo > t.s_hi || t.v_lo > t.v_hi, which,
+               "a saturation or value lower bound above its upper bound (only hue wraps)");
 }
 }  // namespace
 

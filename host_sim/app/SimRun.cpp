@@ -34,7 +34,7 @@ SimRun::SimRun(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& 
 }
 
 const char* SimRun::state_name() const {
-  return fw::state_name(topo_.controller->state());
+  return topo_.firmware->controller.state_name();
 }
 
 std::uint64_t SimRun::allocations_in_ticks() const {
@@ -87,16 +87,19 @@ bool SimRun::step() {
   ++tick_;
 
   // Score the state reached at the end of this period.
-  const fw::LineState st = topo_.controller->state();
+  const fw::LineFirmware& fw = *topo_.firmware;
+  const fw::MissionState ms = fw.runner.state();
+  const bool faulted = fw.controller.latched();
   TickSample s;
   s.t_s = sim_time_s();
   s.pose = topo_.world.pose();
   topo_.world.body_velocity(s.vx_mps, s.vy_mps, s.wz_radps);
-  s.following = st == fw::LineState::Follow;
-  s.in_end_state = st == fw::LineState::End;
+  s.following = !faulted && ms.on_path;
+  s.in_end_state = !faulted && (ms.status == fw::MissionStatus::Finishing ||
+                                ms.status == fw::MissionStatus::Done);
   const double ct = metrics_.add(s);
   rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps,
-                   fw::state_name(st), ct});
+                   fw.controller.state_name(), ct});
   for (const ContactStart& c : topo_.world.take_new_contacts()) {
     metrics_.add_collision();
     collisions_.push_back({s.t_s, c.x, c.y});
@@ -105,7 +108,7 @@ bool SimRun::step() {
 
   if (metrics_.end_reached()) {
     result_ = "end_reached";
-  } else if (st == fw::LineState::Fault) {
+  } else if (faulted) {
     // Keep simulating for a second so the quick stop shows in the trajectory.
     if (fault_at_s_ < 0) fault_at_s_ = s.t_s;
     if (s.t_s - fault_at_s_ >= 1.0) result_ = "fault";
@@ -121,7 +124,7 @@ void SimRun::abort() {
 
 void SimRun::drain_events() {
   fw::Event e;
-  while (topo_.controller->events().pop(e)) log_.push_back(format_event(e));
+  while (topo_.firmware->controller.events().pop(e)) log_.push_back(format_event(e));
 }
 
 std::vector<std::string> SimRun::take_log() {
@@ -131,9 +134,10 @@ std::vector<std::string> SimRun::take_log() {
 }
 
 RunSummary SimRun::summary(double wall_time_s) {
-  fw::Controller& ctl = *topo_.controller;
-  ctl.refresh_telemetry();
-  const fw::Telemetry& tel = ctl.telemetry();
+  fw::LineFirmware& firmware = *topo_.firmware;
+  firmware.refresh_telemetry();
+  const fw::FirmwareTelemetry& all = firmware.telemetry();
+  const fw::ControllerTelemetry& tel = all.controller;
   RunSummary r;
   r.scenario = scenario_.name;
   r.result = finished() ? result_ : "aborted";
@@ -152,15 +156,21 @@ RunSummary SimRun::summary(double wall_time_s) {
   r.laps = metrics_.laps();
   r.cross_track_rms_m = metrics_.cross_track_rms_m();
   r.cross_track_max_m = metrics_.cross_track_max_m();
-  r.line_lost_events = int(tel.line_lost_events);
-  r.line_reacquired_events = int(tel.line_reacquired_events);
-  r.obstacles_avoided = int(tel.obstacles_avoided);
+  r.mission = all.mission;
+  for (const fw::MissionCounter& c : all.mission_counters) {
+    r.mission_counters.emplace_back(c.name, long(c.value));
+  }
+  // summary.json's contract keys for the line counts: follow_line's counters of those names.
+  r.line_lost_events = int(firmware.mission_counter("line_lost_events"));
+  r.line_reacquired_events = int(firmware.mission_counter("line_reacquired_events"));
+  r.obstacles_avoided = int(firmware.mission_counter("obstacles_avoided"));
   r.end_reached = metrics_.end_reached();
   r.end_stop_error_m = metrics_.end_stop_error_m();
   r.path_length_m = metrics_.path_length_m();
   r.mean_speed_mps = metrics_.mean_speed_mps();
   r.max_abs_wz_radps = metrics_.max_abs_wz_radps();
-  r.final_state = fw::state_name(tel.state);
+  r.final_state = tel.state;
+  r.mission_status = fw::mission_status_name(tel.status);
   if (tel.fault != fw::Fault::None) r.fault = fw::fault_name(tel.fault);
 
   // Expectations. A run that faulted or was aborted never passes.

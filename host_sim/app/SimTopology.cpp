@@ -1,13 +1,19 @@
 #include "host_sim/app/SimTopology.hpp"
 
-#include "host_sim/scenario/ColorCheck.hpp"
-
 #include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "host_sim/scenario/ColorCheck.hpp"
 
 namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
+
+constexpr std::int64_t us(double v) {
+  return static_cast<std::int64_t>(v * 1e3);
+}
 }  // namespace
 
 fw::FirmwareConfig firmware_config(const Scenario& s) {
@@ -21,34 +27,67 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   c.limits.max_yaw_rate_radps = r.limits.max_yaw_rate_radps;
   c.limits.max_accel_mps2 = r.limits.max_accel_mps2;
   c.limits.max_wheel_speed_radps = r.limits.max_wheel_speed_radps;
-  c.camera = camera_mount(r.camera);
-  // Three missed frames in a row is a dead camera.
-  c.camera_timeout_s = std::max(0.2, 3.0 / r.camera.rate_hz);
-  c.camera_rate_hz = r.camera.rate_hz;
+  c.camera.camera = camera_mount(r.camera);
+  c.camera.rate_hz = r.camera.rate_hz;
   c.lidar.present = true;
   c.lidar.x_m = r.lidar.x_m;
   c.lidar.y_m = r.lidar.y_m;
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
-  c.lidar.timeout_s = std::max(0.5, 5.0 / r.lidar.rate_hz);
   c.lidar.rate_hz = r.lidar.rate_hz;
-  c.imu_present = true;
-  c.health = fw::health_config(c);
-  c.detector.line = detector_threshold(s.mission.line_color_name, s.mission.line_color);
-  c.detector.end = detector_threshold(s.mission.end_color_name, s.mission.end_color);
-  c.strategy.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority
-                        : s.mission.strategy == "pid"         ? fw::Strategy::Pid
-                                                              : fw::Strategy::Marks;
-  c.strategy.speed_mps = s.mission.speed_mps;
-  c.strategy.pid_straight.speed_mps = s.mission.speed_mps;
-  c.strategy.pid_curve.speed_mps = 0.8 * s.mission.speed_mps;
-  c.behavior.init_timeout_s = 3.0;
+  c.watch.imu_present = true;
+  c.camera.detector.line = detector_threshold(s.mission.line_color_name, s.mission.line_color);
+  c.camera.detector.end = detector_threshold(s.mission.end_color_name, s.mission.end_color);
+  fw::StrategyConfig& st = c.follow_line.strategy;
+  st.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority
+                : s.mission.strategy == "pid"         ? fw::Strategy::Pid
+                                                      : fw::Strategy::Marks;
+  st.speed_mps = s.mission.speed_mps;
+  st.pid_straight.speed_mps = s.mission.speed_mps;
+  st.pid_curve.speed_mps = 0.8 * s.mission.speed_mps;
+  c.follow_line.behavior.init_timeout_s = 3.0;
+  fw::apply_sensor_rates(c);
   return c;
 }
 
+fw::Status declare_tasks(fw::LineFirmware& f) {
+  using fw::TaskSpec;
+  const fw::FirmwareConfig& c = f.config();
+  // Read top to bottom: the order tasks run in within a tick is the order data flows.
+  //                        component method                     name          rate [Hz]
+  //                                                              offset budget
+  const TaskSpec table[] = {
+      TaskSpec::bind<&fw::SensorWatch::run>("health", c.rate_hz, 0, us(20), &f.watch),
+      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", c.rate_hz, 0, us(20), &f.odometry),
+      TaskSpec::bind<&fw::LinePerception::run>("perception", c.camera.rate_hz, 0, us(400),
+                                               &f.perception),
+      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", c.lidar.rate_hz, 1, us(60),
+                                                &f.obstacle_sensing),
+      TaskSpec::bind<&fw::MissionRunner::run>("mission", c.rate_hz, 0, us(80), &f.runner),
+      TaskSpec::bind<&fw::MotionOutput::run>("motion", c.rate_hz, 0, us(20), &f.output),
+      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", 10.0, 9, us(50), &f),
+  };
+  for (const TaskSpec& t : table) {
+    if (fw::Status s = f.controller.add_task(t); !s) return s;
+  }
+  return f.controller.check();
+}
+
 namespace {
-fw::FirmwareConfig tweaked(fw::FirmwareConfig c, const ConfigTweak& tweak) {
+fw::FirmwareConfig checked(fw::FirmwareConfig c, const ConfigTweak& tweak, const Scenario& s) {
   if (tweak) tweak(c);
+  if (const fw::Status st = c.validate(); !st) {
+    throw std::invalid_argument(s.source_path + ": firmware configuration: " + st.message());
+  }
   return c;
+}
+
+std::unique_ptr<fw::LineFirmware> wired(const fw::FirmwareConfig& c, const hal::Clock& clock,
+                                        const Scenario& s) {
+  auto f = std::make_unique<fw::LineFirmware>(c, clock);
+  if (const fw::Status st = declare_tasks(*f); !st) {
+    throw std::invalid_argument(s.source_path + ": task table: " + st.message());
+  }
+  return f;
 }
 }  // namespace
 
@@ -59,8 +98,8 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       lidar(s.robot.lidar, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu},
-      config(tweaked(firmware_config(s), tweak)),
-      controller(std::make_unique<fw::Controller>(config, clock)),
-      app(devices, *controller) {}
+      config(checked(firmware_config(s), tweak, s)),
+      firmware(wired(config, clock, s)),
+      app(devices, firmware->controller) {}
 
 }  // namespace carril::sim

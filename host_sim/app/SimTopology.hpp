@@ -1,13 +1,14 @@
 #pragma once
 // The simulator target's wiring: every object of a simulated robot, created and connected here,
-// top to bottom in the order data flows (world -> sensors -> HAL -> firmware -> drives -> world).
+// top to bottom in the order data flows (world -> sensors -> HAL -> firmware -> drives -> world),
+// and the firmware's task table for this target.
 #include <cstdint>
 #include <functional>
 #include <memory>
 
-#include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
+#include "firmware/app/LineFirmware.hpp"
 #include "hal/Devices.hpp"
 #include "hal/sim/SimDevices.hpp"
 #include "host_sim/scenario/Scenario.hpp"
@@ -24,7 +25,13 @@ fw::FirmwareConfig firmware_config(const Scenario& s);
 // switched off, to show what it guards against).
 using ConfigTweak = std::function<void(fw::FirmwareConfig&)>;
 
+// The firmware's task table on the simulator: which component runs at what rate (from the
+// configured sensor rates), on which tick of its period, with what time budget.
+fw::Status declare_tasks(fw::LineFirmware& fw);
+
 struct SimTopology {
+  // Throws std::invalid_argument, naming the field, when the configuration or the task table
+  // is invalid.
   SimTopology(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& tweak = {});
 
   const Scenario& scenario;
@@ -41,7 +48,7 @@ struct SimTopology {
   hal::Devices devices;
   // The firmware.
   fw::FirmwareConfig config;
-  std::unique_ptr<fw::Controller> controller;  // large (latency histograms): on the heap, at init
+  std::unique_ptr<fw::LineFirmware> firmware;  // large (latency histograms): on the heap, at init
   fw::FirmwareApp app;
 };
 

@@ -243,7 +243,15 @@ int main(int argc, char** argv) {
   // Floating-point traps on: a NaN born in the simulation stops it where it happens.
   carril::sim::enable_fp_traps();
 
-  carril::sim::SimRun run(scenario, seed);
+  std::unique_ptr<carril::sim::SimRun> built;
+  try {
+    built = std::make_unique<carril::sim::SimRun>(scenario, seed);
+  } catch (const std::invalid_argument& e) {
+    // The configuration derived from the scenario, or the task table, is not valid.
+    std::fprintf(stderr, "carril_sim: %s\n", e.what());
+    return 2;
+  }
+  carril::sim::SimRun& run = *built;
   if (stopped_during_startup("building the world")) return 1;
   if (!o.quiet) {
     std::printf(

@@ -94,4 +94,13 @@ std::string ObjectWriter::finish() const {
   return out;
 }
 
+std::string ObjectWriter::finish_inline() const {
+  std::string out = "{";
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += entries_[i];
+  }
+  return out + "}";
+}
+
 }  // namespace carril::sim::json

@@ -29,6 +29,8 @@ class ObjectWriter {
   void str_array(std::string_view key, const std::vector<std::string>& items);
   // The finished object, ending in a newline.
   std::string finish() const;
+  // The finished object on one line, as a value inside another object: {"a": 1, "b": 2}.
+  std::string finish_inline() const;
 
  private:
   std::vector<std::string> entries_;  // `"key": value`, without indentation or comma

@@ -109,6 +109,13 @@ std::string summary_to_json(const RunSummary& s) {
   // Added keys.
   w.str_array("unmet_expectations", s.unmet_expectations);
   w.str_or_null("fault", s.fault);
+  w.str("mission", s.mission);
+  w.str("mission_status", s.mission_status);
+  {
+    json::ObjectWriter counters;
+    for (const auto& [name, value] : s.mission_counters) counters.integer(name, value);
+    w.raw("mission_counters", counters.finish_inline());
+  }
   return w.finish();
 }
 

@@ -4,6 +4,7 @@
 // beside the output directory, synced, and the staging directory is swapped in with one rename.
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host_sim/scenario/Scenario.hpp"
@@ -46,6 +47,11 @@ struct RunSummary {
   // Added keys (after the contract's): why the run failed its expect block, one line per miss.
   std::vector<std::string> unmet_expectations;
   std::string fault;  // fault description when result == "fault"
+  // The mission, whatever it is: its name, how it ended (starting, active, finishing, done,
+  // failed) and every count it keeps (the line counts above are three of follow_line's).
+  std::string mission;
+  std::string mission_status;
+  std::vector<std::pair<std::string, long>> mission_counters;
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).

@@ -11,6 +11,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 hal::TimeNs period_ns(double rate_hz) {
   return static_cast<hal::TimeNs>(std::llround(1e9 / rate_hz));
 }
+
+constexpr std::int64_t us(double v) {
+  return static_cast<std::int64_t>(v * 1e3);
+}
 }  // namespace
 
 fw::FirmwareConfig robot_config() {
@@ -27,35 +31,63 @@ fw::FirmwareConfig robot_config() {
   c.limits.max_accel_mps2 = 1.0;
   c.limits.max_wheel_speed_radps = 12.0;
   // Camera on the front mast, looking down at the floor ahead of the bumper.
-  c.camera.x_m = 0.49;
-  c.camera.y_m = 0.0;
-  c.camera.z_m = 0.90;
-  c.camera.tilt_rad = 55.0 * kDeg;
-  c.camera.hfov_rad = 54.2 * kDeg;
-  c.camera.width = 640;
-  c.camera.height = 480;
-  // Same rules as the simulator: three missed 30 Hz frames, five missed 20 Hz scans.
-  c.camera_timeout_s = 0.2;
+  c.camera.camera.x_m = 0.49;
+  c.camera.camera.y_m = 0.0;
+  c.camera.camera.z_m = 0.90;
+  c.camera.camera.tilt_rad = 55.0 * kDeg;
+  c.camera.camera.hfov_rad = 54.2 * kDeg;
+  c.camera.camera.width = 640;
+  c.camera.camera.height = 480;
+  c.camera.rate_hz = 30.0;
   c.lidar.present = true;  // campero has one; its backend comes with the CAN/Ethernet drivers
   c.lidar.x_m = 0.45;
   c.lidar.y_m = -0.35;
   c.lidar.yaw_rad = -45.0 * kDeg;
-  c.lidar.timeout_s = 0.5;
   c.lidar.rate_hz = 20.0;
-  c.camera_rate_hz = 30.0;
-  c.imu_present = false;  // no IMU backend yet (hal::NullImu)
-  c.health = fw::health_config(c);
-  c.strategy.strategy = fw::Strategy::LinePriority;  // mecanum: the thesis's best on campero
-  c.strategy.speed_mps = 0.5;
+  c.watch.imu_present = false;  // no IMU backend yet (hal::NullImu)
+  c.follow_line.strategy.strategy = fw::Strategy::LinePriority;  // mecanum: the thesis's best
+  c.follow_line.strategy.speed_mps = 0.5;
+  fw::apply_sensor_rates(c);
   return c;
 }
 
-RobotTopology::RobotTopology()
+fw::Status declare_tasks(fw::LineFirmware& f) {
+  using fw::TaskSpec;
+  const fw::FirmwareConfig& c = f.config();
+  // Read top to bottom: the order tasks run in within a tick is the order data flows.
+  const TaskSpec table[] = {
+      TaskSpec::bind<&fw::SensorWatch::run>("health", c.rate_hz, 0, us(20), &f.watch),
+      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", c.rate_hz, 0, us(20), &f.odometry),
+      TaskSpec::bind<&fw::LinePerception::run>("perception", c.camera.rate_hz, 0, us(400),
+                                               &f.perception),
+      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", c.lidar.rate_hz, 1, us(60),
+                                                &f.obstacle_sensing),
+      TaskSpec::bind<&fw::MissionRunner::run>("mission", c.rate_hz, 0, us(80), &f.runner),
+      TaskSpec::bind<&fw::MotionOutput::run>("motion", c.rate_hz, 0, us(20), &f.output),
+      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", 10.0, 9, us(50), &f),
+  };
+  for (const TaskSpec& t : table) {
+    if (fw::Status s = f.controller.add_task(t); !s) return s;
+  }
+  return f.controller.check();
+}
+
+std::unique_ptr<RobotTopology> RobotTopology::create(const fw::FirmwareConfig& config,
+                                                     fw::Status& error) {
+  error = config.validate();
+  if (!error) return nullptr;
+  auto topo = std::make_unique<RobotTopology>(config);
+  error = declare_tasks(topo->firmware);
+  if (!error) return nullptr;
+  return topo;
+}
+
+RobotTopology::RobotTopology(const fw::FirmwareConfig& cfg)
     : drives(4),  // mecanum: front-left, front-right, rear-left, rear-right
       devices{clock, drives, camera, scanner, imu},
-      config(robot_config()),
-      controller(config, clock),
-      app(devices, controller),
+      config(cfg),
+      firmware(config, clock),
+      app(devices, firmware.controller),
       loop(clock, period_ns(config.rate_hz)) {}
 
 }  // namespace carril::robot

@@ -1,10 +1,14 @@
 #pragma once
 // The robot target's wiring: every object of the robot build, created and connected here, top to
-// bottom in the order data flows (clock and devices -> HAL -> firmware -> fixed-rate loop).
-#include "firmware/app/Controller.hpp"
+// bottom in the order data flows (clock and devices -> HAL -> firmware -> fixed-rate loop), and
+// the firmware's task table on the robot.
+#include <memory>
+
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
+#include "firmware/app/LineFirmware.hpp"
 #include "firmware/core/FixedRateLoop.hpp"
+#include "firmware/core/Status.hpp"
 #include "hal/Devices.hpp"
 #include "hal/linux/LinuxClock.hpp"
 #include "hal/null/NullDevices.hpp"
@@ -15,10 +19,18 @@ namespace carril::robot {
 // hardcoded: the target has no YAML reader yet).
 fw::FirmwareConfig robot_config();
 
+// The firmware's task table on the robot: which component runs at what rate (from the configured
+// sensor rates), on which tick of its period, with what time budget.
+fw::Status declare_tasks(fw::LineFirmware& fw);
+
 // Large (the controller's latency histograms are a few hundred KiB): create it once, on the heap,
-// at init. Neither copyable nor movable: the objects below hold references to each other.
+// at init, with create(). Neither copyable nor movable: the objects below hold references to each
+// other.
 struct RobotTopology {
-  RobotTopology();
+  // The wired robot, or nullptr with `error` naming the field or task that is wrong.
+  static std::unique_ptr<RobotTopology> create(const fw::FirmwareConfig& config,
+                                               fw::Status& error);
+  explicit RobotTopology(const fw::FirmwareConfig& config);
   RobotTopology(const RobotTopology&) = delete;
   RobotTopology& operator=(const RobotTopology&) = delete;
 
@@ -32,7 +44,7 @@ struct RobotTopology {
   hal::Devices devices;
   // The firmware.
   fw::FirmwareConfig config;
-  fw::Controller controller;
+  fw::LineFirmware firmware;
   fw::FirmwareApp app;
   // The fixed-rate loop that drives app.step().
   fw::FixedRateLoop loop;

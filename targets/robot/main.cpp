@@ -20,8 +20,8 @@ namespace {
 
 using carril::fw::Controller;
 using carril::fw::Event;
+using carril::fw::FirmwareTelemetry;
 using carril::fw::LoopStats;
-using carril::fw::Telemetry;
 
 // Set by the signal handler, read by the loop's step function.
 std::atomic<bool> g_stop{false};
@@ -98,7 +98,8 @@ bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
   return true;
 }
 
-void print_telemetry(const Telemetry& t, const LoopStats& loop) {
+void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
+  const carril::fw::ControllerTelemetry& t = all.controller;
   std::printf("telemetry:\n");
   std::printf("  ticks %llu\n", static_cast<unsigned long long>(t.ticks));
   std::printf(
@@ -115,8 +116,10 @@ void print_telemetry(const Telemetry& t, const LoopStats& loop) {
                 static_cast<unsigned long long>(task.runs),
                 static_cast<unsigned long long>(task.overruns), task.p99_us, task.max_us);
   }
-  std::printf("  state %s, fault %s\n", carril::fw::state_name(t.state),
-              carril::fw::fault_name(t.fault));
+  std::printf("  events dropped %llu\n", static_cast<unsigned long long>(t.events_dropped));
+  std::printf("  mission %s: %s, state %s, phase %s\n", all.mission,
+              carril::fw::mission_status_name(t.status), t.state, t.phase);
+  std::printf("  state %s, fault %s\n", t.state, carril::fw::fault_name(t.fault));
 }
 
 // State changes and faults, oldest first (the controller keeps the newest kEventLog).
@@ -148,13 +151,19 @@ int main(int argc, char** argv) {
   // Init: everything is created and wired here, before the first tick; nothing after this
   // allocates.
   install_signal_handlers();
-  const auto topo = std::make_unique<carril::robot::RobotTopology>();
+  carril::fw::Status status;
+  const auto topo =
+      carril::robot::RobotTopology::create(carril::robot::robot_config(), status);
+  if (!topo) {
+    std::fprintf(stderr, "carril_robot: configuration: %s\n", status.message());
+    return 2;
+  }
   const carril::fw::FirmwareConfig& cfg = topo->config;
   std::printf(
       "carril_robot: mecanum, wheel radius %.3f m, wheelbase %.2f m, track %.2f m, camera %dx%d, "
       "%.0f Hz; devices: null camera, lidar, imu and %d drives (no CAN backend yet)\n",
-      cfg.drive.wheel_radius_m, cfg.drive.wheelbase_m, cfg.drive.track_m, cfg.camera.width,
-      cfg.camera.height, cfg.rate_hz, topo->drives.count());
+      cfg.drive.wheel_radius_m, cfg.drive.wheelbase_m, cfg.drive.track_m, cfg.camera.camera.width,
+      cfg.camera.camera.height, cfg.rate_hz, topo->drives.count());
   if (opt.ticks > 0) {
     std::printf("carril_robot: running %llu ticks\n", static_cast<unsigned long long>(opt.ticks));
   } else {
@@ -177,8 +186,9 @@ int main(int argc, char** argv) {
       opt.ticks);
 
   // Stopped: report once, outside the loop.
-  topo->controller.refresh_telemetry();
-  const Telemetry& tel = topo->controller.telemetry();
+  topo->firmware.refresh_telemetry();
+  const FirmwareTelemetry& all = topo->firmware.telemetry();
+  const carril::fw::ControllerTelemetry& tel = all.controller;
   const bool interrupted = opt.ticks > 0 && tel.ticks < opt.ticks;
   if (interrupted) {
     std::printf("carril_robot: stopped by a signal after %llu of %llu ticks\n",
@@ -191,7 +201,7 @@ int main(int argc, char** argv) {
     std::printf("carril_robot: stopped by a signal after %llu ticks\n",
                 static_cast<unsigned long long>(tel.ticks));
   }
-  print_telemetry(tel, loop);
-  print_events(topo->controller, t0_ns);
+  print_telemetry(all, loop);
+  print_events(topo->firmware.controller, t0_ns);
   return interrupted ? 1 : 0;
 }
