@@ -30,6 +30,8 @@ const ActuatorCommand& FirmwareApp::step() {
   float zero[hal::kMaxWheels] = {};
   const float* sp = cmd_.drive == DriveRequest::Run ? cmd_.wheel_radps.data() : zero;
   dev_.drives.set_velocity(sp, dev_.drives.count());
+  // Once per period, after every command of the period: a bus backend sends PDOs and SYNC here.
+  dev_.drives.sync();
   return cmd_;
 }
 

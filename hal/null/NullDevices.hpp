@@ -26,12 +26,16 @@ class NullImu final : public Imu {
 class NullWheelDrives final : public WheelDrives {
  public:
   explicit NullWheelDrives(int count) : count_(count) {}
+  // Nothing to bring up.
+  DriveInitResult init() override { return DriveInitResult::success(); }
   int count() const override { return count_; }
   void enable() override {}
   void disable() override {}
   void quick_stop() override {}
   void reset_faults() override {}
   void set_velocity(const float*, int) override {}
+  // No bus, so nothing to transfer.
+  void sync() override {}
   void read(WheelFeedbackSet& out) const override;
 
  private:

@@ -93,6 +93,14 @@ SimWheelDrives::SimWheelDrives(int count) : count_(count) {
   fb_.count = static_cast<std::uint8_t>(count);
 }
 
+DriveInitResult SimWheelDrives::init() {
+  return init_result_;
+}
+
+void SimWheelDrives::fail_init(int wheel, const char* what) {
+  init_result_ = DriveInitResult::failure(wheel, "%s", what);
+}
+
 void SimWheelDrives::enable() {
   enable_requested_.fill(true);
 }
@@ -130,7 +138,8 @@ void SimWheelDrives::read(WheelFeedbackSet& out) const {
   out = fb_;
 }
 
-void SimWheelDrives::sync(float* target_radps) {
+void SimWheelDrives::sync() {
+  ++syncs_;
   for (int i = 0; i < count_; ++i) {
     WheelFeedback& w = fb_.wheel[i];
     if (enable_requested_[std::size_t(i)]) {
@@ -140,8 +149,12 @@ void SimWheelDrives::sync(float* target_radps) {
         w.state = DriveState::Enabled;
       }
     }
-    target_radps[i] = (w.state == DriveState::Enabled) ? setpoint_[i] : 0.0F;
+    latched_[std::size_t(i)] = (w.state == DriveState::Enabled) ? setpoint_[i] : 0.0F;
   }
+}
+
+void SimWheelDrives::take_setpoints(float* target_radps) const {
+  for (int i = 0; i < count_; ++i) target_radps[i] = latched_[std::size_t(i)];
 }
 
 void SimWheelDrives::set_feedback(int wheel, TimeNs stamp_ns, float velocity_radps,
@@ -157,6 +170,7 @@ void SimWheelDrives::inject_fault(int wheel, DriveFault code) {
   fb_.wheel[wheel].fault = code;
   enable_requested_[std::size_t(wheel)] = false;
   setpoint_[std::size_t(wheel)] = 0.0F;
+  latched_[std::size_t(wheel)] = 0.0F;  // a faulted drive stops following at once
 }
 
 }  // namespace carril::hal

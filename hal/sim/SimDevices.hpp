@@ -1,6 +1,7 @@
 #pragma once
 // In-process simulator backend. The simulator writes sensor data and reads setpoints here in
 // lockstep with the physics; the firmware sees only the hal interfaces. No physics in here.
+#include <cstdint>
 #include <memory>
 
 #include "hal/Camera.hpp"
@@ -86,34 +87,48 @@ class SimImu final : public Imu {
 };
 
 // Emulates the drive side of the CiA 402 state machine: enable takes one bus sync, quick stop
-// and faults latch, setpoints only count while Enabled.
+// and faults latch, setpoints only count while Enabled. sync() is the simulated bus transfer: the
+// simulator applies only what was latched there, so setpoints the firmware set but did not sync
+// never reach the motors.
 class SimWheelDrives final : public WheelDrives {
  public:
   explicit SimWheelDrives(int count);
+  // Ok (a simulated bus has nothing to bring up) unless fail_init() set a failure.
+  DriveInitResult init() override;
   int count() const override { return count_; }
   void enable() override;
   void disable() override;
   void quick_stop() override;
   void reset_faults() override;
   void set_velocity(const float* radps, int n) override;
+  // Advance each drive's state machine one sync and latch the velocity its motor is asked for
+  // (the staged setpoint while Enabled, else zero).
+  void sync() override;
   void read(WheelFeedbackSet& out) const override;
 
-  // Simulator side, once per bus sync: advance the state machine; returns the velocity each
-  // wheel motor is asked for (zero unless Enabled) [rad/s].
-  void sync(float* target_radps);
+  // Simulator side, after the firmware's step: the velocity each wheel motor was asked for at
+  // the last sync(), count() values [rad/s].
+  void take_setpoints(float* target_radps) const;
   // Simulator side: what the wheels actually did.
   void set_feedback(int wheel, TimeNs stamp_ns, float velocity_radps, double position_rad);
   void inject_fault(int wheel, DriveFault code);
+  // Test side: every later init() fails, naming drive `wheel` (-1: no one drive) and `what`.
+  void fail_init(int wheel, const char* what);
   DriveState state(int wheel) const { return fb_.wheel[wheel].state; }
   int quick_stop_requests() const { return quick_stops_; }
+  // Number of sync() calls so far: the firmware's periods, if it syncs once per period.
+  std::uint64_t syncs() const { return syncs_; }
 
  private:
   int count_;
   WheelFeedbackSet fb_{};
-  std::array<float, kMaxWheels> setpoint_{};
+  std::array<float, kMaxWheels> setpoint_{};  // staged by set_velocity()
+  std::array<float, kMaxWheels> latched_{};   // taken at sync(): what the motors follow
   // Per drive, as on a bus: a fault cancels that drive's request, so recovery needs a new enable.
   std::array<bool, kMaxWheels> enable_requested_{};
   int quick_stops_ = 0;
+  std::uint64_t syncs_ = 0;
+  DriveInitResult init_result_{};
 };
 
 }  // namespace carril::hal

@@ -78,9 +78,10 @@ bool SimRun::step() {
   alloc::end_window();
   Eigen::internal::set_is_malloc_allowed(true);
 
-  // Bus sync: the drives take the setpoints; the physics runs one period in two sub-steps.
+  // The firmware's step ended with the bus sync; the motors take what it latched, and the
+  // physics runs one period in two sub-steps.
   float target[hal::kMaxWheels] = {};
-  topo_.drives.sync(target);
+  topo_.drives.take_setpoints(target);
   topo_.world.set_wheel_targets(target);
   topo_.world.step(period_s_ / 2);
   topo_.world.step(period_s_ / 2);

@@ -2,7 +2,7 @@
 // firmware at its configured rate on absolute deadlines and, when it stops, prints the firmware's
 // telemetry once.
 // Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
-// 1 a signal stopped it before the requested ticks, 2 bad usage.
+// 1 a signal stopped it before the requested ticks, 2 bad usage, 3 the drives did not come up.
 #include <Eigen/Core>
 #include <atomic>
 #include <charconv>
@@ -46,7 +46,8 @@ constexpr const char* kUsage =
     "  --help      print this and exit\n"
     "Prints the firmware telemetry when it stops.\n"
     "Exit status: 0 ran the requested ticks (or until a signal, without --ticks),\n"
-    "1 a signal stopped it before the requested ticks, 2 bad usage.\n";
+    "1 a signal stopped it before the requested ticks, 2 bad usage,\n"
+    "3 the drives did not come up.\n";
 
 struct Options {
   std::uint64_t ticks = 0;  // 0: until a signal
@@ -164,6 +165,12 @@ int main(int argc, char** argv) {
       "%.0f Hz; devices: null camera, lidar, imu and %d drives (no CAN backend yet)\n",
       cfg.drive.wheel_radius_m, cfg.drive.wheelbase_m, cfg.drive.track_m, cfg.camera.camera.width,
       cfg.camera.camera.height, cfg.rate_hz, topo->drives.count());
+  // Drive bring-up (on a bus: boot-up, configuration) happens once, before the first tick.
+  const carril::hal::DriveInitResult up = topo->drives.init();
+  if (!up.ok) {
+    std::fprintf(stderr, "carril_robot: drives did not come up: %s\n", up.what);
+    return 3;
+  }
   if (opt.ticks > 0) {
     std::printf("carril_robot: running %llu ticks\n", static_cast<unsigned long long>(opt.ticks));
   } else {

@@ -39,6 +39,15 @@ TEST(ScenarioEndToEndTest, SquarePasses) {
   EXPECT_EQ(r.final_state, "FOLLOW");
 }
 
+// WheelDrives::sync() is the period's bus transfer: the firmware calls it exactly once per step.
+TEST(ScenarioEndToEndTest, FirmwareSyncsTheDrivesOncePerPeriod) {
+  const Scenario s = test::load_repo_scenario("square");
+  SimRun run(s, s.seed);
+  EXPECT_EQ(run.topology().drives.syncs(), 0U);
+  for (int k = 0; k < 250; ++k) ASSERT_TRUE(run.step());
+  EXPECT_EQ(run.topology().drives.syncs(), 250U);
+}
+
 TEST(ScenarioEndToEndTest, UnmetExpectationFailsTheRun) {
   Scenario s = test::load_repo_scenario("circle");
   s.duration_s = 10.0;  // a lap needs about 38 s

@@ -10,10 +10,15 @@ class SimWheelDrivesTest : public ::testing::Test {
   void expect_all(DriveState s) const {
     for (int i = 0; i < drives.count(); ++i) EXPECT_EQ(drives.state(i), s) << "wheel " << i;
   }
-  // One bus sync; returns by reference what the motors are asked for.
+  // One bus sync, then what the simulator hands the motors (by reference).
   const float* sync() {
-    for (float& t : target) t = -99.0F;  // poison: sync must write every wheel
-    drives.sync(target);
+    drives.sync();
+    return take();
+  }
+  // What the motors are asked for, without a sync.
+  const float* take() {
+    for (float& t : target) t = -99.0F;  // poison: every wheel must be written
+    drives.take_setpoints(target);
     return target;
   }
   void enable_fully() {
@@ -188,15 +193,71 @@ TEST_F(SimWheelDrivesTest, ReadReportsFeedback) {
   EXPECT_EQ(fb.wheel[0].position_rad, 12.25);
 }
 
-TEST(SimWheelDrivesTwoWheelTest, SyncWritesOnlyItsWheels) {
+TEST_F(SimWheelDrivesTest, InitIsOkAndChangesNothing) {
+  const DriveInitResult r = drives.init();
+  EXPECT_TRUE(r.ok);
+  EXPECT_EQ(r.drive, -1);
+  EXPECT_STREQ(r.what, "");
+  expect_all(DriveState::Disabled);  // bring-up is not an enable
+  EXPECT_EQ(drives.syncs(), 0U);
+}
+
+TEST_F(SimWheelDrivesTest, InitFailureNamesTheDrive) {
+  drives.fail_init(2, "drive 2 (rear-left): no boot-up within 1.0 s");
+  const DriveInitResult r = drives.init();
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.drive, 2);
+  EXPECT_STREQ(r.what, "drive 2 (rear-left): no boot-up within 1.0 s");
+}
+
+TEST_F(SimWheelDrivesTest, SetpointsSetButNotSyncedAreNotApplied) {
+  enable_fully();
+  drives.set_velocity(setpoint, 4);
+  const float* t = take();  // staged only: the motors still get the last sync's zero
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(t[i], 0.0F) << i;
+  t = sync();
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(t[i], setpoint[i]) << i;
+  const float other[4] = {-1.0F, -1.0F, -1.0F, -1.0F};
+  drives.set_velocity(other, 4);
+  t = take();  // the latched setpoints hold until the next sync, as on a bus
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(t[i], setpoint[i]) << i;
+  t = sync();
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(t[i], other[i]) << i;
+}
+
+TEST_F(SimWheelDrivesTest, OnlySyncAdvancesTheStateMachine) {
+  drives.enable();
+  for (int k = 0; k < 3; ++k) take();
+  expect_all(DriveState::Disabled);
+  EXPECT_EQ(drives.syncs(), 0U);
+  sync();
+  expect_all(DriveState::Enabling);
+  sync();
+  expect_all(DriveState::Enabled);
+  EXPECT_EQ(drives.syncs(), 2U);
+}
+
+TEST_F(SimWheelDrivesTest, FaultStopsTheLatchedSetpointAtOnce) {
+  enable_fully();
+  drives.set_velocity(setpoint, 4);
+  sync();
+  drives.inject_fault(1, DriveFault::Overcurrent);
+  const float* t = take();  // no sync needed: a faulted drive's bridge is off
+  EXPECT_EQ(t[1], 0.0F);
+  EXPECT_EQ(t[0], setpoint[0]);
+  EXPECT_EQ(t[3], setpoint[3]);
+}
+
+TEST(SimWheelDrivesTwoWheelTest, TakeSetpointsWritesOnlyItsWheels) {
   SimWheelDrives drives(2);
   EXPECT_EQ(drives.count(), 2);
   const float sp[2] = {3.0F, -3.0F};
   drives.set_velocity(sp, 2);
   drives.enable();
+  drives.sync();
+  drives.sync();
   float target[kMaxWheels] = {7.0F, 7.0F, 7.0F, 7.0F};
-  drives.sync(target);
-  drives.sync(target);
+  drives.take_setpoints(target);
   EXPECT_EQ(target[0], 3.0F);
   EXPECT_EQ(target[1], -3.0F);
   EXPECT_EQ(target[2], 7.0F);
