@@ -8,13 +8,14 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "firmware/core/EventLog.hpp"
 #include "firmware/core/LatencyStats.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/TaskTable.hpp"
 #include "hal/Clock.hpp"
 
 namespace carril::fw {
+
+class EventSink;  // firmware/core/EventLog.hpp: where overrun events go
 
 // Telemetry of the whole cycle.
 struct SlowCycleCounters {

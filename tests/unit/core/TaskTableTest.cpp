@@ -461,16 +461,16 @@ struct Counter {
 
 TEST_F(TaskTableTest, BindCallsMemberFunction) {
   Counter a, b;
-  ASSERT_TRUE(table->add(TaskSpec::bind<&Counter::tick>("a", 100, 0, 1000, &a)).is_ok());
-  ASSERT_TRUE(table->add(TaskSpec::bind<&Counter::tick>("b", 50, 1, 1000, &b)).is_ok());
-  const TaskSpec s = TaskSpec::bind<&Counter::tick>("direct", 25, 2, 7, &a);
+  ASSERT_TRUE(table->add(TaskSpec::bind<&Counter::tick>("a", 100.0, 0, 1000, &a)).is_ok());
+  ASSERT_TRUE(table->add(TaskSpec::bind<&Counter::tick>("b", 50.0, 1, 1000, &b)).is_ok());
+  const TaskSpec s = TaskSpec::bind<&Counter::tick>("direct", 25.0, 2, 7, &a);
   EXPECT_STREQ(s.name, "direct");
   EXPECT_DOUBLE_EQ(s.rate_hz, 25.0);
   EXPECT_EQ(s.offset, 2U);
   EXPECT_EQ(s.budget_ns, 7);
   EXPECT_EQ(s.overrun_severity, Severity::Warning);
   EXPECT_EQ(s.ctx, &a);
-  const TaskSpec e = TaskSpec::bind<&Counter::tick>("err", 25, 0, 7, &a, Severity::Error);
+  const TaskSpec e = TaskSpec::bind<&Counter::tick>("err", 25.0, 0, 7, &a, Severity::Error);
   EXPECT_EQ(e.overrun_severity, Severity::Error);
   run_ticks(0, 6);
   EXPECT_EQ(a.calls, 6);
@@ -478,6 +478,16 @@ TEST_F(TaskTableTest, BindCallsMemberFunction) {
   s.fn(s.ctx);
   EXPECT_EQ(a.calls, 7);
 }
+
+// bind() with an integer rate (an old divisor, most likely) does not compile.
+template <typename R>
+concept BindsWithRate = requires(R r, Counter* c) {
+  TaskSpec::bind<&Counter::tick>("x", r, 0, 1, c);
+};
+static_assert(BindsWithRate<double>);
+static_assert(BindsWithRate<float>);
+static_assert(!BindsWithRate<int>);
+static_assert(!BindsWithRate<std::uint32_t>);
 
 }  // namespace
 }  // namespace carril::fw
