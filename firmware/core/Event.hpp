@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "firmware/core/Faults.hpp"
+#include "firmware/core/Severity.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -14,8 +15,6 @@ enum class EventKind : std::uint8_t {
   Fault,        // fault `fault` latched in state `from`: safe stop
   Overrun,      // task `task` overran its time budget (throttled; `count` overruns since last)
 };
-
-enum class Severity : std::uint8_t { Info, Warning, Error };
 
 struct Event {
   hal::TimeNs t_ns = 0;
@@ -31,17 +30,5 @@ struct Event {
   double took_us = 0.0;         // EventKind::Overrun: the longest of them [us]
   double budget_us = 0.0;       // EventKind::Overrun: the task's budget [us]
 };
-
-inline const char* severity_name(Severity s) {
-  switch (s) {
-    case Severity::Info:
-      return "info";
-    case Severity::Warning:
-      return "warning";
-    case Severity::Error:
-      return "error";
-  }
-  return "?";
-}
 
 }  // namespace carril::fw

@@ -4,6 +4,9 @@
 #include <cstdint>
 #include <cstring>
 
+#include "firmware/core/Event.hpp"
+#include "firmware/core/EventLog.hpp"
+
 namespace carril::fw {
 
 namespace {

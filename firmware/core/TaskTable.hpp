@@ -6,15 +6,19 @@
 // throttle interval, carrying how many overruns it stands for (F Prime's rate group cycle slip).
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "firmware/core/Event.hpp"
 #include "firmware/core/EventLog.hpp"
 #include "firmware/core/LatencyStats.hpp"
+#include "firmware/core/Severity.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "hal/Clock.hpp"
 
 namespace carril::fw {
+
+class EventSink;  // firmware/core/EventLog.hpp: where overrun events go
 
 struct TaskSpec {
   const char* name = "";       // unique in its table; a static string (kept, not copied)
@@ -34,6 +38,12 @@ struct TaskSpec {
                     budget_ns, overrun_severity, [](void* c) { (static_cast<T*>(c)->*Method)(); },
                     obj};
   }
+  // An integer rate does not compile: it is most likely a divisor from before tasks were
+  // declared by rate (bind("health", 1, ...) would run at 1 Hz). Write 100.0, or pass a double.
+  template <auto Method, typename T, typename R>
+  requires std::is_integral_v<R>
+  static TaskSpec bind(const char* name, R rate_hz, std::uint32_t offset, std::int64_t budget_ns,
+                       T* obj, Severity overrun_severity = Severity::Warning) = delete;
 };
 
 // Telemetry of one task.
