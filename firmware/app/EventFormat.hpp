@@ -21,7 +21,8 @@ inline void format_event(const Event& e, double t_s, char* buf, std::size_t n) {
       std::snprintf(buf, n, "%9.3f s  %s -> %s", t_s, e.from, e.to);
       break;
     case EventKind::Overrun:
-      std::snprintf(buf, n, "%9.3f s  %s: task %s overran its %.0f us budget %u time%s (longest %.0f us)",
+      std::snprintf(buf, n,
+                    "%9.3f s  %s: task %s overran its %.0f us budget %u time%s (longest %.0f us)",
                     t_s, severity_name(e.severity), e.task, e.budget_us, unsigned(e.count),
                     e.count == 1 ? "" : "s", e.took_us);
       break;

@@ -16,10 +16,6 @@ Status FirmwareConfig::validate() const {
       .nested(runner.validate())
       .nested(follow_line.validate());
   if (lidar.present) c.nested(lidar.validate());
-  // A sensor faster than the tick would have frames the firmware never looks at.
-  c.fail_if(camera.rate_hz > rate_hz, "camera.rate_hz", "faster than the control rate")
-      .fail_if(lidar.present && lidar.rate_hz > rate_hz, "lidar.rate_hz",
-               "faster than the control rate");
   return c.result();
 }
 

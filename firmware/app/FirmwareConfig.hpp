@@ -20,11 +20,11 @@ struct FirmwareConfig {
   double footprint_length_m = 0.5, footprint_width_m = 0.5;  // body outline [m]
   MotionLimits limits;
 
-  LinePerceptionConfig camera;    // camera mount and rate, tape colours, frame health
-  ObstacleSensingConfig lidar;    // lidar mount and rate, scan health
-  SensorWatchConfig watch;        // device timeouts, IMU health
-  MissionRunnerConfig runner;     // the obstacle stop
-  FollowLineConfig follow_line;   // the mission: strategy and state machine
+  LinePerceptionConfig camera;   // camera mount and rate, tape colours, frame health
+  ObstacleSensingConfig lidar;   // lidar mount and rate, scan health
+  SensorWatchConfig watch;       // device timeouts, IMU health
+  MissionRunnerConfig runner;    // the obstacle stop
+  FollowLineConfig follow_line;  // the mission: strategy and state machine
 
   Status validate() const;
   Footprint footprint() const { return {0.5 * footprint_length_m, 0.5 * footprint_width_m}; }

@@ -13,11 +13,11 @@ namespace carril::fw {
 struct AvoidConfig {
   double corridor_margin_m = 0.10;  // corridor = robot width + this each side [m]
   // (The obstacle that starts an avoidance is the mission runner's: ObstacleStopConfig.)
-  double clearance_m = 0.30;        // body-to-obstacle clearance while passing [m]
-  double speed_mps = 0.30;          // bypass speed [m/s]
-  double emergency_m = 0.05;        // any point this close to the body stops the robot [m]
-  double max_lateral_m = 2.5;       // never detour further than this from the tape [m]
-  double blocked_timeout_s = 3.0;   // stopped this long by something in the way: give up [s]
+  double clearance_m = 0.30;       // body-to-obstacle clearance while passing [m]
+  double speed_mps = 0.30;         // bypass speed [m/s]
+  double emergency_m = 0.05;       // any point this close to the body stops the robot [m]
+  double max_lateral_m = 2.5;      // never detour further than this from the tape [m]
+  double blocked_timeout_s = 3.0;  // stopped this long by something in the way: give up [s]
 
   Status validate() const;
 };

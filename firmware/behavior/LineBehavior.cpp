@@ -5,7 +5,7 @@
 namespace carril::fw {
 
 LineBehavior::LineBehavior(const BehaviorConfig& cfg, LineController& line,
-                                 const BypassPlanner& planner, bool holonomic)
+                           const BypassPlanner& planner, bool holonomic)
     : cfg_(cfg),
       line_(line),
       planner_(planner),

@@ -4,11 +4,11 @@
 // drive every transition with scripted observations.
 #include <cstdint>
 
-#include "firmware/core/Faults.hpp"
 #include "firmware/behavior/BypassPlanner.hpp"
 #include "firmware/behavior/LineState.hpp"
 #include "firmware/control/LineController.hpp"
 #include "firmware/control/PathTracker.hpp"
+#include "firmware/core/Faults.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "firmware/perception/TapeMap.hpp"
@@ -102,9 +102,10 @@ struct BehaviorOutput {
 class LineBehavior {
  public:
   LineBehavior(const BehaviorConfig& cfg, LineController& line, const BypassPlanner& planner,
-                  bool holonomic);
+               bool holonomic);
 
-  // Starts the mission clock at `t_s` with the robot heading `yaw` [rad] (else the first step does).
+  // Starts the mission clock at `t_s` with the robot heading `yaw` [rad] (else the first step
+  // does).
   void begin(double t_s, double yaw);
   BehaviorOutput step(const BehaviorInput& in, double dt_s);
 

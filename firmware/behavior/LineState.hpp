@@ -1,7 +1,6 @@
 #pragma once
 #include <cstdint>
 
-
 namespace carril::fw {
 
 // States of the follow_line mission's state machine (LineBehavior).

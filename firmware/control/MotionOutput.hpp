@@ -3,11 +3,11 @@
 // it feasible (MotionLimiter: speed, acceleration and wheel-speed limits) and publishes the
 // actuator command; zero while the drives are not all enabled, and a quick stop once a fault has
 // latched, whatever was requested.
+#include "firmware/control/MotionLimiter.hpp"
+#include "firmware/control/MotionRequest.hpp"
 #include "firmware/core/FaultSink.hpp"
 #include "firmware/core/Frames.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/control/MotionLimiter.hpp"
-#include "firmware/control/MotionRequest.hpp"
 
 namespace carril::fw {
 

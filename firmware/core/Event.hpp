@@ -20,15 +20,15 @@ struct Event {
   hal::TimeNs t_ns = 0;
   EventKind kind = EventKind::StateChange;
   Severity severity = Severity::Info;
-  const char* from = "";        // state names (static strings)
+  const char* from = "";  // state names (static strings)
   const char* to = "";
   const char* phase = nullptr;  // EventKind::Phase: the phase entered (static string)
   Fault fault = Fault::None;
-  std::uint16_t code = 0;       // drive fault code, when fault == DriveFault
-  const char* task = "";        // EventKind::Overrun: the task
-  std::uint32_t count = 0;      // EventKind::Overrun: overruns reported by this event
-  double took_us = 0.0;         // EventKind::Overrun: the longest of them [us]
-  double budget_us = 0.0;       // EventKind::Overrun: the task's budget [us]
+  std::uint16_t code = 0;   // drive fault code, when fault == DriveFault
+  const char* task = "";    // EventKind::Overrun: the task
+  std::uint32_t count = 0;  // EventKind::Overrun: overruns reported by this event
+  double took_us = 0.0;     // EventKind::Overrun: the longest of them [us]
+  double budget_us = 0.0;   // EventKind::Overrun: the task's budget [us]
 };
 
 }  // namespace carril::fw

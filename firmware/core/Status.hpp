@@ -46,8 +46,8 @@ class Checks {
   explicit Checks(const char* scope) : scope_(scope) {}
   Checks& range(const char* field, double v, double lo, double hi, const char* unit) {
     if (status_.is_ok() && !(v >= lo && v <= hi)) {
-      status_ = Status::error("%s.%s: %g %s, expected %g to %g %s", scope_, field, v, unit, lo, hi,
-                              unit);
+      status_ =
+          Status::error("%s.%s: %g %s, expected %g to %g %s", scope_, field, v, unit, lo, hi, unit);
     }
     return *this;
   }

@@ -9,13 +9,14 @@ namespace carril::fw {
 
 // Odometry message: the robot in the odometry frame (origin where the firmware started).
 struct OdometryMsg {
-  Pose2 pose;    // [m, m, rad]
-  Twist twist;   // measured from wheel speeds [m/s, m/s, rad/s]
+  Pose2 pose;   // [m, m, rad]
+  Twist twist;  // measured from wheel speeds [m/s, m/s, rad/s]
 };
 
 class WheelOdometry {
  public:
-  WheelOdometry(const DriveKinematics& kin, const Topic<SensorFrame>& frame, Topic<OdometryMsg>& out)
+  WheelOdometry(const DriveKinematics& kin, const Topic<SensorFrame>& frame,
+                Topic<OdometryMsg>& out)
       : odom_(kin), frame_(frame), out_(out) {}
 
   // Task: one encoder reading in, one odometry message out.

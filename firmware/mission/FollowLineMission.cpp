@@ -58,9 +58,9 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
     in.line_near_angle = std::atan2(n1.y() - n0.y(), n1.x() - n0.x());
   }
   const StrategyConfig& s = cfg_.strategy;
-  in.track = map_.track(odom.pose,
-                        s.strategy == Strategy::Pid ? s.pid_lookahead_m : s.marks_lookahead_m,
-                        cfg_.tape_preview_m);
+  in.track =
+      map_.track(odom.pose, s.strategy == Strategy::Pid ? s.pid_lookahead_m : s.marks_lookahead_m,
+                 cfg_.tape_preview_m);
   in.tape_far_valid = map_.far_segment(0.3, in.tape_far_point, in.tape_far_heading);
   in.end_known = end_known_;
   in.end_odom = end_odom_;

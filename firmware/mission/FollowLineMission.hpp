@@ -20,7 +20,8 @@ namespace carril::fw {
 struct FollowLineConfig {
   StrategyConfig strategy;  // which follower, its gains and the cruise speed
   BehaviorConfig behavior;  // state machine and obstacle avoidance
-  double tape_preview_m = 0.6;  // how far ahead along the remembered tape corners are looked for [m]
+  double tape_preview_m =
+      0.6;  // how far ahead along the remembered tape corners are looked for [m]
 
   Status validate() const;
 };

@@ -63,9 +63,9 @@ class ObstacleGuard;
 
 // What the runner hands the mission every tick.
 struct MissionContext {
-  double t_s = 0.0;            // loop time [s]
-  double dt_s = 0.0;           // control period [s]
-  bool drives_ready = false;   // every drive reports Operation enabled
+  double t_s = 0.0;           // loop time [s]
+  double dt_s = 0.0;          // control period [s]
+  bool drives_ready = false;  // every drive reports Operation enabled
   const ObstacleGuard* guard = nullptr;
 
   // An obstacle stands ahead, inside the stopping corridor (computed once per tick, on demand).

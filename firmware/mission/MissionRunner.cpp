@@ -12,8 +12,7 @@ Status ObstacleStopConfig::validate() const {
 bool ObstacleGuard::ahead() const {
   if (!known_) {
     const ObstacleField& f = obstacles_.get();
-    ahead_ = f.valid() &&
-             f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, 5.0) < cfg_.stop_m;
+    ahead_ = f.valid() && f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, 5.0) < cfg_.stop_m;
     known_ = true;
   }
   return ahead_;

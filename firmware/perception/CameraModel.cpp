@@ -63,7 +63,7 @@ Status CameraMount::validate() const {
       .range("x_m", x_m, -5.0, 5.0, "m")
       .range("y_m", y_m, -5.0, 5.0, "m")
       .range("z_m", z_m, 0.02, 5.0, "m")
-      .range("tilt_rad", tilt_rad, 0.05, 1.57, "rad")
+      .range("tilt_rad", tilt_rad, 0.05, 1.5707963268, "rad")  // up to straight down
       .range("hfov_rad", hfov_rad, 0.05, 3.0, "rad")
       .range("width", width, 16, hal::kMaxImageWidth, "px")
       .range("height", height, 16, hal::kMaxImageHeight, "px")

@@ -300,8 +300,9 @@ Status LineDetectorConfig::validate() const {
   Checks c("detector");
   check_threshold(c, "line", line);
   check_threshold(c, "end", end);
-  return c.fail_if(decimation != 1 && decimation != 2 && decimation != 4, "decimation",
-                   "expected 1, 2 or 4")
+  return c
+      .fail_if(decimation != 1 && decimation != 2 && decimation != 4, "decimation",
+               "expected 1, 2 or 4")
       .range("min_area_px", min_area_px, 0.0, 1e7, "px")
       .range("min_end_area_px", min_end_area_px, 0.0, 1e7, "px")
       .result();

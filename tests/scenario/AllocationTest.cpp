@@ -76,7 +76,7 @@ TEST(AllocationTest, NoHeapAllocationInAnyStateOfAWholeMission) {
   EXPECT_GE(ticks, 10000);
   EXPECT_EQ(seen, (std::set<std::string>{"START", "FOLLOW", "AVOID", "END"}));
   EXPECT_EQ(run.summary(1.0).result, "end_reached");
-  EXPECT_EQ(run.topology().controller->telemetry().obstacles_avoided, 2U);
+  EXPECT_EQ(run.topology().firmware->mission_counter("obstacles_avoided"), 2U);
   EXPECT_EQ(run.allocations_in_ticks(), 0U);
 }
 

@@ -45,10 +45,11 @@ walls:
 )");
 }
 
-// Steps `run` until the firmware is in `state` (true) or the run ends (false).
-inline bool run_until_state(SimRun& run, fw::LineState state) {
+// Steps `run` until the firmware is in the state named `state` (e.g. "AVOID": true) or the run
+// ends (false).
+inline bool run_until_state(SimRun& run, const std::string& state) {
   while (run.step()) {
-    if (run.topology().controller->state() == state) return true;
+    if (run.state_name() == state) return true;
   }
   return false;
 }

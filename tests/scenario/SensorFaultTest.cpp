@@ -28,12 +28,11 @@ struct Outcome {
 // injects through `inject`, and runs to the end.
 template <typename Inject>
 Outcome run_with_fault(const Scenario& s, double inject_at_s, Inject inject,
-                       const ConfigTweak& tweak = {},
-                       fw::LineState in_state = fw::LineState::Count) {
+                       const ConfigTweak& tweak = {}, const char* in_state = nullptr) {
   SimRun run(s, s.seed, tweak);
   Outcome o;
-  if (in_state != fw::LineState::Count) {
-    EXPECT_TRUE(test::run_until_state(run, in_state)) << fw::state_name(in_state) << " never came";
+  if (in_state != nullptr) {
+    EXPECT_TRUE(test::run_until_state(run, in_state)) << in_state << " never came";
   } else {
     while (run.sim_time_s() < inject_at_s && run.step()) {
     }
@@ -55,7 +54,8 @@ Outcome run_with_fault(const Scenario& s, double inject_at_s, Inject inject,
   }
   // After a fault: at rest at the end, drives quick-stopped, exactly one fault counted.
   const TrajectoryRow& last = run.rows().back();
-  const fw::Telemetry& t = run.topology().controller->telemetry();
+  run.topology().firmware->refresh_telemetry();
+  const fw::ControllerTelemetry& t = run.topology().firmware->telemetry().controller;
   std::uint32_t total = 0;
   for (auto c : t.fault_counts) total += c;
   if (o.summary.result == "fault") {
@@ -113,7 +113,7 @@ TEST(GarbageScanControl, WithoutTheHealthRuleTheRobotDrivesIntoTheObstacle) {
   const Outcome o = run_with_fault(
       corners(), kInjectS,
       [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::NanRanges); },
-      [](fw::FirmwareConfig& c) { c.health.scan.min_valid_fraction = 0.0; });
+      [](fw::FirmwareConfig& c) { c.lidar.health.min_valid_fraction = 0.0; });
   EXPECT_GT(o.summary.collisions, 0);
   EXPECT_NE(o.summary.fault, "scanner_blind");
   std::printf("  without the rule: %d collisions, result %s %s\n", o.summary.collisions,
@@ -141,7 +141,10 @@ TEST(CameraHealthControl, WithoutTheFrozenRuleTheRobotDrivesOnBlind) {
       corners(), kInjectS,
       [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); },
       [](fw::FirmwareConfig& c) {
-        c.health.frame.frozen_motion_m = c.health.frame.frozen_turn_rad = 1e9;
+        // The largest values the rule takes: more than the robot can travel or turn in
+        // the second the test watches.
+        c.camera.health.frozen_motion_m = 10.0;
+        c.camera.health.frozen_turn_rad = 6.3;
       });
   EXPECT_NE(o.summary.fault, "camera_frozen");
   EXPECT_GT(o.fault_s < 0 ? 1e9 : o.fault_s - o.inject_s, 1.0);  // still going a second later
@@ -181,8 +184,7 @@ bool logged_in(const Outcome& o, const std::string& state) {
 TEST(FaultInAvoid, DriveFaultStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0,
-      [](SimTopology& t) { t.drives.inject_fault(1, hal::DriveFault::Overcurrent); }, {},
-      fw::LineState::Avoid);
+      [](SimTopology& t) { t.drives.inject_fault(1, hal::DriveFault::Overcurrent); }, {}, "AVOID");
   expect_safe_stop(o, "drive_fault", 0.02);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -190,7 +192,7 @@ TEST(FaultInAvoid, DriveFaultStopsTheRobot) {
 TEST(FaultInAvoid, CameraGoingSilentStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0, [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Silent); },
-      {}, fw::LineState::Avoid);
+      {}, "AVOID");
   expect_safe_stop(o, "camera_timeout", 0.25);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -198,8 +200,7 @@ TEST(FaultInAvoid, CameraGoingSilentStopsTheRobot) {
 TEST(FaultInAvoid, GarbageScanStopsTheRobot) {
   const Outcome o = run_with_fault(
       corners(), 0.0,
-      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::ZeroRanges); }, {},
-      fw::LineState::Avoid);
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::ZeroRanges); }, {}, "AVOID");
   expect_safe_stop(o, "scanner_blind", 0.30);
   EXPECT_TRUE(logged_in(o, "AVOID"));
 }
@@ -208,7 +209,7 @@ TEST(FaultInSearch, DriveFaultStopsTheRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
       [](SimTopology& t) { t.drives.inject_fault(0, hal::DriveFault::HeartbeatLost); }, {},
-      fw::LineState::Search);
+      "SEARCH");
   expect_safe_stop(o, "drive_fault", 0.02);
   EXPECT_TRUE(logged_in(o, "SEARCH"));
 }
@@ -216,8 +217,7 @@ TEST(FaultInSearch, DriveFaultStopsTheRobot) {
 TEST(FaultInSearch, LidarGoingSilentStopsTheRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
-      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); }, {},
-      fw::LineState::Search);
+      [](SimTopology& t) { t.scanner.inject_fault(hal::SimSensorFault::Silent); }, {}, "SEARCH");
   expect_safe_stop(o, "scanner_timeout", 0.6);
   EXPECT_TRUE(logged_in(o, "SEARCH"));
 }
@@ -225,8 +225,7 @@ TEST(FaultInSearch, LidarGoingSilentStopsTheRobot) {
 TEST(FaultInSearch, FrozenCameraStopsTheTurningRobot) {
   const Outcome o = run_with_fault(
       test::tape_end_scenario(), 0.0,
-      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); }, {},
-      fw::LineState::Search);
+      [](SimTopology& t) { t.camera.inject_fault(hal::SimSensorFault::Frozen); }, {}, "SEARCH");
   // The search starts turning from rest (0.2 s to reach 0.6 rad/s), then 0.05 rad of turning and
   // a frame or two.
   expect_safe_stop(o, "camera_frozen", 0.35);
@@ -245,14 +244,14 @@ TEST(SearchDirection, TapeEndSearchRejectsTheTapeBehindAndStops) {
   const RunSummary r = run.summary(1.0);
   EXPECT_EQ(r.fault, "line_not_found");
   EXPECT_EQ(r.line_reacquired_events, 0);
-  EXPECT_GT(run.topology().controller->telemetry().reversed_sightings, 0U);
+  EXPECT_GT(run.topology().firmware->mission_counter("reversed_sightings"), 0U);
   EXPECT_EQ(r.collisions, 0);
   EXPECT_GT(run.rows().back().x, 3.5);  // stopped at the tape's end, not back at its start
 }
 
 TEST(SearchDirectionControl, WithoutTheRuleTheRobotDrivesTheTapeBackwards) {
   const Scenario s = test::tape_end_scenario();
-  SimRun run(s, 1, [](fw::FirmwareConfig& c) { c.behavior.reacquire_on_path_m = 0.0; });
+  SimRun run(s, 1, [](fw::FirmwareConfig& c) { c.follow_line.behavior.reacquire_on_path_m = 0.0; });
   while (run.step()) {
   }
   const RunSummary r = run.summary(1.0);

@@ -110,7 +110,8 @@ void expect_safe_stop(SimRun& run, const RunSummary& r, const char* fault) {
   const TrajectoryRow& last = run.rows().back();
   EXPECT_LT(std::hypot(last.vx, last.vy), 1e-3);
   EXPECT_LT(std::fabs(last.wz), 1e-3);
-  const fw::Telemetry& t = run.topology().controller->telemetry();
+  run.topology().firmware->refresh_telemetry();
+  const fw::ControllerTelemetry& t = run.topology().firmware->telemetry().controller;
   std::uint32_t total = 0;
   for (auto c : t.fault_counts) total += c;
   EXPECT_EQ(total, 1U);

@@ -13,6 +13,7 @@
 #include "firmware/behavior/BypassPlanner.hpp"
 #include "firmware/behavior/LineBehavior.hpp"
 #include "firmware/control/LineController.hpp"
+#include "firmware/mission/MissionRunner.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "hal/Types.hpp"
 
@@ -128,6 +129,7 @@ inline Twist integrate_pose(Pose2& p, const Twist& t, double dt) {
 // tick. `script` may change the input after the defaults are set.
 struct Sim {
   BehaviorConfig cfg;
+  ObstacleStopConfig stop;  // the mission runner's obstacle question, asked in FOLLOW
   StrategyConfig scfg;
   Footprint fp;
   bool holonomic;
@@ -208,6 +210,9 @@ struct Sim {
       field.update(scan_of(world, pose), pose);
       in.fresh_scan = true;
       in.obstacles = &field;
+      // As MissionRunner's ObstacleGuard answers it for FollowLineMission.
+      in.obstacle_ahead = mb.state() == LineState::Follow && field.valid() &&
+                          field.ahead_m(pose, stop.corridor_margin_m, 5.0) < stop.stop_m;
     }
     return in;
   }

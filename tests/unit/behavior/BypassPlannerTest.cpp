@@ -1,4 +1,4 @@
-// BypassPlanner: side choice, blocked paths, waypoints, refinement; drive_to.
+// BypassPlanner: side choice, blocked paths, waypoints, refinement.
 #include "firmware/behavior/BypassPlanner.hpp"
 
 #include <gtest/gtest.h>
@@ -202,79 +202,6 @@ TEST_F(BypassPlannerTest, RefineLeavesAFailedPlanAlone) {
   planner.refine(field_of(box_ahead(), Pose2{}, fp), p);
   EXPECT_FALSE(p.ok);
   EXPECT_EQ(p.waypoints.size(), 0U);
-}
-
-// ---------------------------------------------------------------------------------------------
-// drive_to
-
-TEST(BypassPlannerDriveTo, HolonomicTranslatesTowardTheWaypointAndHoldsHeading) {
-  bool reached = true;
-  const Pose2 o{0.0, 0.0, 0.3};
-  const Vec2 wp(1.0, 1.0);
-  const Twist t = drive_to(o, wp, 0.0, true, 0.3, reached);
-  EXPECT_FALSE(reached);
-  const Vec2 e = to_robot(o, wp);
-  EXPECT_NEAR(std::atan2(t.vy, t.vx), std::atan2(e.y(), e.x()), 1e-9);
-  EXPECT_NEAR(std::hypot(t.vx, t.vy), 0.3 + 0.03, 1e-9);
-  EXPECT_NEAR(t.wz, -0.6, 1e-9);  // back toward the held heading
-  const Twist u = drive_to(Pose2{0.0, 0.0, 0.0}, wp, 0.0, true, 0.3, reached);
-  EXPECT_EQ(u.wz, 0.0);
-}
-
-TEST(BypassPlannerDriveTo, DifferentialTurnsOnTheSpotWhenTheBearingIsLarge) {
-  bool reached = true;
-  const Twist l = drive_to(Pose2{}, Vec2(0.0, 1.0), 0.0, false, 0.3, reached);
-  EXPECT_FALSE(reached);
-  EXPECT_EQ(l.vx, 0.0);
-  EXPECT_EQ(l.vy, 0.0);
-  EXPECT_GT(l.wz, 0.0);
-  const Twist r = drive_to(Pose2{}, Vec2(0.2, -1.0), 0.0, false, 0.3, reached);
-  EXPECT_EQ(r.vx, 0.0);
-  EXPECT_LT(r.wz, 0.0);
-  const Twist b = drive_to(Pose2{}, Vec2(-1.0, 0.01), 0.0, false, 0.3, reached);  // behind
-  EXPECT_EQ(b.vx, 0.0);
-  EXPECT_NE(b.wz, 0.0);
-}
-
-TEST(BypassPlannerDriveTo, DifferentialDrivesWhenTheBearingIsSmall) {
-  bool reached = true;
-  const Twist t = drive_to(Pose2{}, Vec2(1.0, 0.05), 0.0, false, 0.3, reached);
-  EXPECT_FALSE(reached);
-  EXPECT_GT(t.vx, 0.0);
-  EXPECT_EQ(t.vy, 0.0);
-  EXPECT_GT(t.wz, 0.0);
-  EXPECT_NEAR(t.wz, 2.0 * std::atan2(0.05, 1.0), 1e-9);
-}
-
-TEST(BypassPlannerDriveTo, ReachedWithinFourCentimetres) {
-  for (const bool holo : {true, false}) {
-    bool reached = false;
-    const Twist in = drive_to(Pose2{}, Vec2(0.039, 0.0), 0.0, holo, 0.3, reached);
-    EXPECT_TRUE(reached);
-    EXPECT_EQ(in.vx, 0.0);
-    EXPECT_EQ(in.vy, 0.0);
-    EXPECT_EQ(in.wz, 0.0);
-    const Twist out = drive_to(Pose2{}, Vec2(0.041, 0.0), 0.0, holo, 0.3, reached);
-    EXPECT_FALSE(reached);
-    EXPECT_GT(out.vx, 0.0);
-  }
-}
-
-TEST(BypassPlannerDriveTo, ClosedLoopReachesTheWaypoint) {
-  for (const bool holo : {true, false}) {
-    for (const Vec2 wp : {Vec2(1.0, 0.0), Vec2(0.0, 1.05), Vec2(-0.5, -0.8), Vec2(0.15, -1.05)}) {
-      Pose2 p{0.0, 0.0, 0.0};
-      bool reached = false;
-      int ticks = 0;
-      for (; ticks < 3000 && !reached; ++ticks) {
-        const Twist t = drive_to(p, wp, 0.0, holo, 0.3, reached);
-        test::integrate_pose(p, t, test::kDt);
-        if (holo) ASSERT_LT(std::fabs(p.yaw), 1e-9);
-      }
-      EXPECT_TRUE(reached) << "holo=" << holo << " wp=" << wp.transpose();
-      EXPECT_LT((Vec2(p.x, p.y) - wp).norm(), 0.04);
-    }
-  }
 }
 
 }  // namespace

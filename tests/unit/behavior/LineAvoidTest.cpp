@@ -20,7 +20,7 @@ using test::Phases;
 using test::Sim;
 
 double ahead(const Sim& s) {
-  return s.field.ahead_m(s.last_in.odom, s.cfg.avoid.corridor_margin_m, 5.0);
+  return s.field.ahead_m(s.last_in.odom, s.stop.corridor_margin_m, 5.0);
 }
 
 // Phases from the first "stop" on.
@@ -35,8 +35,8 @@ TEST(LineBehaviorAvoidTest, ObstacleAheadStopsTheRobot) {
   s.start_on_tape();
   ASSERT_TRUE(s.run_until_state(LineState::Avoid, 1000));
   EXPECT_STREQ(s.mb.phase(), "stop");
-  EXPECT_LT(ahead(s), s.cfg.avoid.trigger_m);
-  EXPECT_GT(ahead(s), s.cfg.avoid.trigger_m - 0.01);  // the first tick it was that close
+  EXPECT_LT(ahead(s), s.stop.stop_m);
+  EXPECT_GT(ahead(s), s.stop.stop_m - 0.01);  // the first tick it was that close
   expect_still(s.out.twist);
   EXPECT_EQ(s.mb.obstacles_avoided(), 0U);
   EXPECT_FALSE(s.out.clear_map);

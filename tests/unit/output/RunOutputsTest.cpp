@@ -97,7 +97,10 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "max_abs_wz_radps",
                                              "final_state",
                                              "unmet_expectations",
-                                             "fault"};
+                                             "fault",
+                                             "mission",
+                                             "mission_status",
+                                             "mission_counters"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
   EXPECT_NE(json.find("\"progress 0.5 < 0.9\""), std::string::npos);
@@ -114,7 +117,7 @@ TEST_F(RunOutputsTest, JsonValues) {
   const std::string json = summary_to_json(s);
   EXPECT_NE(json.find(R"("scenario": "say \"hi\"\\ now\n",)"), std::string::npos) << json;
   EXPECT_NE(json.find("\"end_stop_error_m\": null,"), std::string::npos);
-  EXPECT_NE(json.find("\"fault\": null\n"), std::string::npos);
+  EXPECT_NE(json.find("\"fault\": null,\n"), std::string::npos);
   EXPECT_NE(json.find("\"unmet_expectations\": [],"), std::string::npos);
   EXPECT_NE(json.find("\"ticks\": 6000,"), std::string::npos);
   EXPECT_NE(json.find("\"sim_time_s\": 60,"), std::string::npos);
@@ -126,7 +129,17 @@ TEST_F(RunOutputsTest, JsonValues) {
   s.fault = "watchdog";
   const std::string json2 = summary_to_json(s);
   EXPECT_NE(json2.find("\"end_stop_error_m\": 0.02,"), std::string::npos);
-  EXPECT_NE(json2.find("\"fault\": \"watchdog\"\n"), std::string::npos);
+  EXPECT_NE(json2.find("\"fault\": \"watchdog\",\n"), std::string::npos);
+  s.mission = "follow_line";
+  s.mission_status = "done";
+  s.mission_counters = {{"line_lost_events", 2}, {"obstacles_avoided", 1}};
+  const std::string json3 = summary_to_json(s);
+  EXPECT_NE(json3.find("\"mission\": \"follow_line\",\n"), std::string::npos) << json3;
+  EXPECT_NE(json3.find("\"mission_status\": \"done\",\n"), std::string::npos) << json3;
+  EXPECT_NE(
+      json3.find("\"mission_counters\": {\"line_lost_events\": 2, \"obstacles_avoided\": 1}\n}"),
+      std::string::npos)
+      << json3;
 }
 
 TEST_F(RunOutputsTest, AtomicWriteReplacesAndLeavesNoTemp) {
