@@ -4,15 +4,23 @@
 
 namespace carril::fw {
 
+namespace {
+// A usable tick rate; quiet comparisons, so a NaN is refused without a floating-point trap.
+bool usable_rate(double hz) {
+  return std::isfinite(hz) && std::isgreater(hz, 0.0);
+}
+}  // namespace
+
 Controller::Controller(const hal::Clock& clock, double tick_rate_hz, Topic<SensorFrame>& frame,
                        const Topic<ActuatorCommand>& command, MissionRunner& runner)
     : clock_(clock),
-      period_s_(tick_rate_hz > 0.0 ? 1.0 / tick_rate_hz : 0.0),
+      period_s_(usable_rate(tick_rate_hz) ? 1.0 / tick_rate_hz : 0.0),
       frame_(frame),
       command_(command),
       runner_(runner),
       tasks_("controller tasks"),
-      tick_budget_ns_(tick_rate_hz > 0.0 ? static_cast<std::int64_t>(0.5e9 / tick_rate_hz) : 0) {
+      tick_budget_ns_(usable_rate(tick_rate_hz) ? static_cast<std::int64_t>(0.5e9 / tick_rate_hz)
+                                                : 0) {
   init_ = tasks_.init(tick_rate_hz, &events_);
 }
 

@@ -1,0 +1,226 @@
+// Controller: runs the target's task table at the declared rates, latches the first fault (safe
+// stop whatever the tasks left, counted, logged with the state it struck in), logs the mission's
+// phase and state changes, counts what the event log drops and reports task overruns.
+#include "firmware/app/Controller.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "firmware/app/EventFormat.hpp"
+#include "tests/unit/mission/ScriptedMission.hpp"
+
+namespace carril::fw {
+namespace {
+
+class FakeClock final : public hal::Clock {
+ public:
+  hal::TimeNs now_ns() const override { return 0; }
+  hal::TimeNs cpu_now_ns() const override { return cpu_ns; }
+  void sleep_until_ns(hal::TimeNs) override {}
+  hal::TimeNs cpu_ns = 0;
+};
+
+struct Rig {
+  FakeClock clock;
+  Topic<SensorFrame> frame;
+  Topic<OdometryMsg> odom;
+  Topic<ObstacleField> obstacles{Footprint{}, 0.0, 0.0, 0.0};
+  Topic<MotionRequest> motion;
+  Topic<ActuatorCommand> command;
+  test::ScriptedMission mission;
+  Controller ctl;
+  MissionRunner runner;
+  std::vector<std::string> ran;  // task names, in the order they ran
+  hal::TimeNs burn_ns = 0;       // compute time the "slow" task takes
+
+  explicit Rig(double rate_hz = 100.0)
+      : ctl(clock, rate_hz, frame, command, runner),
+        runner(MissionRunnerConfig{}, 0.01, 2, mission, frame, odom, obstacles, motion, ctl) {}
+
+  std::vector<Fault> to_raise;  // raised by the fast task on the next tick (a health check)
+  void fast() {
+    ran.emplace_back("fast");
+    for (Fault f : to_raise) ctl.raise(f);
+    to_raise.clear();
+  }
+  void slow() {
+    ran.emplace_back("slow");
+    clock.cpu_ns += burn_ns;
+  }
+  // What a motion stage would leave: run with wheel setpoints.
+  void drive() {
+    ran.emplace_back("drive");
+    ActuatorCommand& c = command.edit();
+    c.drive = DriveRequest::Run;
+    c.wheel_count = 2;
+    c.wheel_radps = {3.0F, 3.0F};
+    c.twist = {0.4, 0.0, 0.0};
+    command.publish(frame.get().now_ns);
+  }
+  void mission_task() {
+    ran.emplace_back("mission");
+    runner.run();
+  }
+
+  Status declare() {
+    const TaskSpec table[] = {
+        TaskSpec::bind<&Rig::fast>("fast", 100.0, 0, 1000, this),
+        TaskSpec::bind<&Rig::slow>("slow", 25.0, 2, 1000, this),
+        TaskSpec::bind<&Rig::mission_task>("mission", 100.0, 0, 1000, this),
+        TaskSpec::bind<&Rig::drive>("drive", 100.0, 0, 1000, this),
+    };
+    for (const TaskSpec& t : table) {
+      if (Status s = ctl.add_task(t); !s) return s;
+    }
+    return ctl.check();
+  }
+  ActuatorCommand tick(int i) {
+    SensorFrame f;
+    f.now_ns = hal::TimeNs(i) * 10'000'000;
+    return ctl.tick(f);
+  }
+  std::vector<std::string> events() {
+    std::vector<std::string> out;
+    Event e;
+    while (ctl.events().pop(e)) {
+      char buf[200];
+      format_event(e, double(e.t_ns) * 1e-9, buf, sizeof buf);
+      out.emplace_back(buf);
+    }
+    return out;
+  }
+};
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+TEST(ControllerTest, RunsTheDeclaredTableInOrderAtItsRates) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  for (int i = 0; i < 8; ++i) r.tick(i);
+  // 25 Hz on a 100 Hz tick: every 4th tick, on offset 2.
+  const std::vector<std::string> want = {
+      "fast",  "mission", "drive",   "fast",    "mission", "drive",   "fast",    "slow", "mission",
+      "drive", "fast",    "mission", "drive",   "fast",    "mission", "drive",   "fast", "mission",
+      "drive", "fast",    "slow",    "mission", "drive",   "fast",    "mission", "drive"};
+  EXPECT_EQ(r.ran, want);
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.ticks, 8U);
+  ASSERT_EQ(t.tasks.size(), 4U);
+  EXPECT_EQ(t.tasks[1].divisor, 4U);
+  EXPECT_EQ(t.tasks[1].runs, 2U);
+}
+
+TEST(ControllerTest, AnEmptyTableOrABadTaskIsAnErrorNamingIt) {
+  Rig r;
+  EXPECT_FALSE(r.ctl.check().is_ok());
+  EXPECT_TRUE(contains(r.ctl.check().message(), "no task")) << r.ctl.check().message();
+  const Status s = r.ctl.add_task(TaskSpec::bind<&Rig::fast>("camera", 0.0, 0, 1000, &r));
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_TRUE(contains(s.message(), "camera")) << s.message();
+  EXPECT_TRUE(contains(s.message(), "rate")) << s.message();
+  const Status off = r.ctl.add_task(TaskSpec::bind<&Rig::fast>("lidar", 20.0, 5, 1000, &r));
+  ASSERT_FALSE(off.is_ok());
+  EXPECT_TRUE(contains(off.message(), "lidar")) << off.message();
+  EXPECT_TRUE(contains(off.message(), "offset")) << off.message();
+}
+
+TEST(ControllerTest, ABadTickRateIsAnErrorAtInitNotACrash) {
+  for (const double rate : {0.0, -5.0, std::numeric_limits<double>::quiet_NaN()}) {
+    Rig r(rate);
+    EXPECT_FALSE(r.ctl.check().is_ok()) << rate;
+    EXPECT_FALSE(r.declare().is_ok()) << rate;
+  }
+}
+
+TEST(ControllerTest, TheFirstFaultLatchesIsCountedOnceAndQuickStops) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  r.mission.st = {MissionStatus::Active, 2, "WORKING", "busy", true};
+  EXPECT_EQ(r.tick(0).drive, DriveRequest::Run);
+  r.to_raise = {Fault::ScannerBlind, Fault::CameraTimeout};  // later ones are ignored
+  for (int i = 1; i < 4; ++i) {
+    const ActuatorCommand c = r.tick(i);  // the drive task still leaves Run behind
+    EXPECT_EQ(c.drive, DriveRequest::QuickStop);
+    EXPECT_EQ(c.wheel_radps[0], 0.0F);
+    EXPECT_EQ(c.twist.vx, 0.0);
+  }
+  EXPECT_STREQ(r.ctl.state_name(), "FAULT");
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.fault, Fault::ScannerBlind);
+  EXPECT_EQ(t.fault_counts[std::size_t(Fault::ScannerBlind)], 1U);
+  EXPECT_EQ(t.fault_counts[std::size_t(Fault::CameraTimeout)], 0U);
+  EXPECT_EQ(t.status, MissionStatus::Failed);
+  const std::vector<std::string> ev = r.events();
+  ASSERT_GE(ev.size(), 2U);
+  EXPECT_TRUE(contains(ev[0], "FAULT scanner_blind (code 0x0000) in WORKING: safe stop")) << ev[0];
+  EXPECT_TRUE(contains(ev[1], "WORKING -> FAULT")) << ev[1];
+  EXPECT_EQ(r.mission.exits, 1);  // the runner stopped the mission
+}
+
+TEST(ControllerTest, LogsPhaseThenStateChangesOfTheMission) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  static const MissionState working{MissionStatus::Active, 1, "WORKING", "busy", true};
+  r.tick(0);
+  r.mission.next_state = &working;
+  r.mission.next_phase = "busy";
+  r.tick(1);
+  r.tick(2);  // nothing new
+  const std::vector<std::string> ev = r.events();
+  ASSERT_EQ(ev.size(), 2U);
+  EXPECT_TRUE(contains(ev[0], "WORKING: busy")) << ev[0];
+  EXPECT_TRUE(contains(ev[1], "WAIT -> WORKING")) << ev[1];
+  EXPECT_STREQ(r.ctl.state_name(), "WORKING");
+}
+
+TEST(ControllerTest, TheEventLogCountsWhatItDrops) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  for (std::size_t i = 0; i < Controller::kEventLog + 5; ++i) {
+    static const MissionState a{MissionStatus::Active, 1, "A", "", false};
+    static const MissionState b{MissionStatus::Active, 2, "B", "", false};
+    r.mission.next_state = i % 2 == 0 ? &a : &b;
+    r.tick(int(i));
+  }
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.events_dropped, 5U);
+  EXPECT_EQ(r.events().size(), Controller::kEventLog);
+}
+
+TEST(ControllerTest, TaskOverrunsBecomeThrottledEvents) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  r.burn_ns = 5000;  // 5 us against a 1 us budget, every time the slow task runs
+  for (int i = 0; i < 100; ++i) r.tick(i);  // 1 s: 25 overruns
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.tasks[1].overruns, 25U);
+  std::vector<std::string> overruns;
+  for (const std::string& e : r.events()) {
+    if (contains(e, "overran")) overruns.push_back(e);
+  }
+  ASSERT_EQ(overruns.size(), 1U);  // throttled: one event for the first second
+  EXPECT_TRUE(contains(overruns[0], "warning: task slow overran its 1 us budget")) << overruns[0];
+}
+
+TEST(ControllerTest, ATickOverItsBudgetIsCounted) {
+  Rig r(100.0);
+  ASSERT_TRUE(r.declare().is_ok());
+  r.burn_ns = 6'000'000;  // 6 ms > half of the 10 ms period
+  for (int i = 0; i < 8; ++i) r.tick(i);
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.tick_overruns, 2U);  // the two ticks the slow task ran on
+  EXPECT_DOUBLE_EQ(t.tick_budget_us, 5000.0);
+}
+
+}  // namespace
+}  // namespace carril::fw

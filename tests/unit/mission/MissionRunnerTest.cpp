@@ -1,0 +1,173 @@
+// MissionRunner: enters the mission once, hands it its context, raises its faults with the state
+// they struck in, stops a guarded motion for an obstacle ahead, and holds the safe stop.
+#include "firmware/mission/MissionRunner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "tests/unit/mission/ScriptedMission.hpp"
+
+namespace carril::fw {
+namespace {
+
+struct RecordingSink final : FaultSink {
+  void raise(Fault f, std::uint16_t code, const char* in_state) override {
+    raised.push_back({f, code, in_state ? in_state : "(current)"});
+    if (latch) fault = f;
+  }
+  bool latched() const override { return fault != Fault::None; }
+  struct Raised {
+    Fault f;
+    std::uint16_t code;
+    std::string in_state;
+  };
+  std::vector<Raised> raised;
+  Fault fault = Fault::None;
+  bool latch = true;
+};
+
+// A scan with one return straight ahead of a sensor at the robot centre, `range` away.
+hal::LaserScan scan_with_point_ahead(double range) {
+  hal::LaserScan s;
+  s.seq = 1;
+  s.count = 3;
+  s.angle_min_rad = -0.01F;
+  s.angle_increment_rad = 0.01F;
+  s.range_min_m = 0.02F;
+  s.range_max_m = 10.0F;
+  const float inf = std::numeric_limits<float>::infinity();
+  s.ranges_m[0] = inf;
+  s.ranges_m[1] = float(range);
+  s.ranges_m[2] = inf;
+  return s;
+}
+
+struct Rig {
+  Topic<SensorFrame> frame;
+  Topic<OdometryMsg> odom;
+  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0};
+  Topic<MotionRequest> motion;
+  RecordingSink sink;
+  test::ScriptedMission mission;
+  MissionRunnerConfig cfg;
+  MissionRunner runner{cfg, 0.01, 2, mission, frame, odom, obstacles, motion, sink};
+
+  // One tick at time t [s] with the drives enabled or not.
+  void tick(double t_s, bool drives = true) {
+    SensorFrame& f = frame.edit();
+    f.now_ns = hal::TimeNs(t_s * 1e9);
+    f.wheels.count = 2;
+    for (int i = 0; i < 2; ++i) {
+      f.wheels.wheel[i].state = drives ? hal::DriveState::Enabled : hal::DriveState::Disabled;
+    }
+    frame.publish(f.now_ns);
+    odom.publish(odom.get(), f.now_ns);
+    runner.run();
+  }
+  void obstacle_at(double range) {
+    obstacles.edit().update(scan_with_point_ahead(range), Pose2{});
+    obstacles.publish(0);
+  }
+};
+
+TEST(MissionRunnerTest, EntersOnceThenUpdatesEveryTickWithItsContext) {
+  Rig r;
+  r.tick(0.5, false);
+  r.tick(0.51, true);
+  EXPECT_EQ(r.mission.enters, 1);
+  EXPECT_DOUBLE_EQ(r.mission.enter_t_s, 0.5);
+  ASSERT_EQ(r.mission.contexts.size(), 2U);
+  EXPECT_DOUBLE_EQ(r.mission.contexts[0].t_s, 0.5);
+  EXPECT_DOUBLE_EQ(r.mission.contexts[0].dt_s, 0.01);
+  EXPECT_FALSE(r.mission.contexts[0].drives_ready);
+  EXPECT_TRUE(r.mission.contexts[1].drives_ready);
+  EXPECT_EQ(r.motion.seq(), 2U);  // a request every tick
+}
+
+TEST(MissionRunnerTest, PassesTheRequestedMotionThrough) {
+  Rig r;
+  r.mission.next.motion.twist = {0.3, 0.1, -0.2};
+  r.tick(0.0);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.3);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vy, 0.1);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.wz, -0.2);
+}
+
+TEST(MissionRunnerTest, RaisesTheMissionsFaultWithTheStateItStruckIn) {
+  Rig r;
+  static const MissionState failed{MissionStatus::Failed, 9, "GAVE_UP", "stopped", false};
+  r.mission.st = {MissionStatus::Active, 3, "WORKING", "busy", false};
+  r.mission.next.fault = Fault::PathBlocked;
+  r.mission.next_state = &failed;
+  r.tick(0.0);
+  ASSERT_EQ(r.sink.raised.size(), 1U);
+  EXPECT_EQ(r.sink.raised[0].f, Fault::PathBlocked);
+  EXPECT_EQ(r.sink.raised[0].in_state, "WORKING");  // not GAVE_UP: where it struck
+}
+
+TEST(MissionRunnerTest, SafeStopAfterAFaultExitsTheMissionOnceAndAsksNothingMore) {
+  Rig r;
+  r.mission.next.motion.twist = {0.5, 0.0, 0.0};
+  r.tick(0.0);
+  r.sink.fault = Fault::CameraTimeout;  // latched elsewhere
+  r.mission.next.motion.twist = {0.5, 0.0, 0.0};
+  for (int i = 1; i <= 5; ++i) r.tick(0.01 * i);
+  EXPECT_EQ(r.mission.exits, 1);
+  EXPECT_EQ(r.mission.contexts.size(), 1U);  // no update after the fault
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+  EXPECT_EQ(r.motion.seq(), 6U);  // still publishing: zero
+  EXPECT_TRUE(r.runner.telemetry().stopped);
+}
+
+TEST(MissionRunnerTest, StopsAGuardedMotionForAnObstacleAhead) {
+  Rig r;
+  r.obstacle_at(0.25 + 0.30);  // 0.30 m ahead of the bumper: inside stop_m (0.45)
+  r.mission.next.motion = {{0.4, 0.0, 0.1}, true};
+  r.tick(0.0);
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  EXPECT_EQ(r.runner.telemetry().obstacle_stops, 1U);
+}
+
+TEST(MissionRunnerTest, LeavesUnguardedOrClearMotionAlone) {
+  Rig r;
+  r.obstacle_at(0.25 + 0.30);
+  r.mission.next.motion = {{0.4, 0.0, 0.0}, false};  // e.g. a bypass manoeuvre
+  r.tick(0.0);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.4);
+  Rig far;
+  far.obstacle_at(0.25 + 0.60);  // beyond stop_m
+  far.mission.next.motion = {{0.4, 0.0, 0.0}, true};
+  far.tick(0.0);
+  EXPECT_DOUBLE_EQ(far.motion.get().twist.vx, 0.4);
+  EXPECT_EQ(r.runner.telemetry().obstacle_stops + far.runner.telemetry().obstacle_stops, 0U);
+}
+
+TEST(MissionRunnerTest, TheMissionAsksTheSameObstacleQuestion) {
+  Rig r;
+  r.mission.ask_obstacle = true;
+  r.tick(0.0);  // no scan yet: nothing ahead
+  r.obstacle_at(0.25 + 0.30);
+  r.tick(0.01);
+  r.obstacle_at(0.25 + 2.0);
+  r.tick(0.02);
+  EXPECT_EQ(r.mission.saw_obstacle, (std::vector<bool>{false, true, false}));
+}
+
+TEST(MissionRunnerTest, ConfigValidateNamesTheField) {
+  MissionRunnerConfig c;
+  EXPECT_TRUE(c.validate().is_ok());
+  c.obstacle.stop_m = -1.0;
+  const Status s = c.validate();
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(std::string(s.message()).find("runner.obstacle.stop_m: -1 m, expected 0.05 to 5 m"),
+            std::string::npos)
+      << s.message();
+}
+
+}  // namespace
+}  // namespace carril::fw
