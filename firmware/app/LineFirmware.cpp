@@ -30,6 +30,21 @@ void LineFirmware::refresh_telemetry() {
   t.perception = perception.telemetry();
   t.obstacles = obstacle_sensing.telemetry();
   t.odom = bus.odometry.get().pose;
+
+  StatusSnapshot& s = status.write_slot();
+  s.t_ns = bus.frame.get().now_ns;
+  s.ticks = t.controller.ticks;
+  s.tick_overruns = t.controller.tick_overruns;
+  s.tick_max_us = t.controller.tick_max_us;
+  s.state = t.controller.state;
+  s.phase = t.controller.phase;
+  s.status = t.controller.status;
+  s.fault = t.controller.fault;
+  s.odom = t.odom;
+  s.frames = t.watch.camera_frames;
+  s.scans = t.watch.scans;
+  s.events_dropped = t.controller.events_dropped;
+  status.publish();
 }
 
 std::uint32_t LineFirmware::mission_counter(const char* name) const {

@@ -8,8 +8,10 @@
 #include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/LineBus.hpp"
+#include "firmware/app/StatusReporter.hpp"
 #include "firmware/control/MotionOutput.hpp"
 #include "firmware/core/Status.hpp"
+#include "firmware/core/TripleBuffer.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
@@ -43,7 +45,8 @@ class LineFirmware {
   // One control period.
   ActuatorCommand tick(const SensorFrame& frame) { return controller.tick(frame); }
 
-  // Task: refreshes telemetry() (percentiles included: run it at a low rate).
+  // Task: refreshes telemetry() (percentiles included: run it at a low rate) and hands a status
+  // snapshot to the slow rate group (status).
   void refresh_telemetry();
   const FirmwareTelemetry& telemetry() const { return telemetry_; }
   const FirmwareConfig& config() const { return cfg_; }
@@ -62,6 +65,8 @@ class LineFirmware {
   FollowLineMission mission;
   MissionRunner runner;
   MotionOutput output;
+  // Control loop -> slow rate group: the newest status snapshot (read by a StatusReporter).
+  TripleBuffer<StatusSnapshot> status;
 
  private:
   const FirmwareConfig cfg_;

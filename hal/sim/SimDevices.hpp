@@ -3,9 +3,12 @@
 // lockstep with the physics; the firmware sees only the hal interfaces. No physics in here.
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "hal/Camera.hpp"
 #include "hal/Clock.hpp"
+#include "hal/Console.hpp"
 #include "hal/Imu.hpp"
 #include "hal/RangeScanner.hpp"
 #include "hal/WheelDrives.hpp"
@@ -71,6 +74,17 @@ class SimRangeScanner final : public RangeScanner {
   std::unique_ptr<LaserScan> scan_;
   std::uint32_t seq_ = 0;
   SimSensorFault fault_ = SimSensorFault::None;
+};
+
+// Console that keeps every line (the simulator's slow rate group runs in lockstep on the
+// simulator's thread; the run reads the lines afterwards).
+class SimConsole final : public Console {
+ public:
+  void write_line(const char* line) override { lines_.emplace_back(line); }
+  const std::vector<std::string>& lines() const { return lines_; }
+
+ private:
+  std::vector<std::string> lines_;
 };
 
 class SimImu final : public Imu {

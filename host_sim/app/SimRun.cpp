@@ -85,6 +85,8 @@ bool SimRun::step() {
   topo_.world.set_wheel_targets(target);
   topo_.world.step(period_s_ / 2);
   topo_.world.step(period_s_ / 2);
+  // The slow rate group, in lockstep: after the tick whose telemetry it reports.
+  if (tick_ % topo_.slow_divisor == topo_.slow_divisor - 1) topo_.slow.cycle(t, topo_.clock);
   ++tick_;
 
   // Score the state reached at the end of this period.

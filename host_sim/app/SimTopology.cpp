@@ -80,6 +80,20 @@ fw::Status declare_tasks(fw::LineFirmware& f) {
   return f.controller.check();
 }
 
+fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
+                              fw::EventSink& events) {
+  using fw::TaskSpec;
+  if (fw::Status s = slow.init(kSlowRateHz, &events); !s) return s;
+  // bind<component method>(name, rate [Hz], offset [cycles], budget [ns], component)
+  const TaskSpec table[] = {
+      TaskSpec::bind<&fw::StatusReporter::run>("status", 1.0, 0, us(2000), &reporter),
+  };
+  for (const TaskSpec& t : table) {
+    if (fw::Status s = slow.add(t); !s) return s;
+  }
+  return fw::Status::ok();
+}
+
 namespace {
 fw::FirmwareConfig checked(fw::FirmwareConfig c, const ConfigTweak& tweak, const Scenario& s) {
   if (tweak) tweak(c);
@@ -108,6 +122,12 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       devices{clock, drives, camera, scanner, imu},
       config(checked(firmware_config(s), tweak, s)),
       firmware(wired(config, clock, s)),
-      app(devices, firmware->controller) {}
+      app(devices, firmware->controller),
+      reporter(firmware->status, console),
+      slow_divisor(fw::TaskTable::divisor_for(config.rate_hz, kSlowRateHz)) {
+  if (const fw::Status st = declare_slow_tasks(slow, reporter, slow_events); !st) {
+    throw std::invalid_argument(s.source_path + ": slow rate group: " + st.message());
+  }
+}
 
 }  // namespace carril::sim

@@ -9,6 +9,9 @@
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/LineFirmware.hpp"
+#include "firmware/app/StatusReporter.hpp"
+#include "firmware/core/EventLog.hpp"
+#include "firmware/core/SlowRateGroup.hpp"
 #include "hal/Devices.hpp"
 #include "hal/sim/SimDevices.hpp"
 #include "host_sim/scenario/Scenario.hpp"
@@ -28,6 +31,12 @@ using ConfigTweak = std::function<void(fw::FirmwareConfig&)>;
 // The firmware's task table on the simulator: which component runs at what rate (from the
 // configured sensor rates), on which tick of its period, with what time budget.
 fw::Status declare_tasks(fw::LineFirmware& fw);
+
+// The slow rate group on the simulator: heavy or OS-bound work off the control loop, run in
+// lockstep (SimRun calls its cycle every slow_divisor ticks), so runs stay bit-identical.
+constexpr double kSlowRateHz = 5.0;  // [Hz]
+fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
+                              fw::EventSink& events);
 
 struct SimTopology {
   // Throws std::invalid_argument, naming the field, when the configuration or the task table
@@ -50,6 +59,12 @@ struct SimTopology {
   fw::FirmwareConfig config;
   std::unique_ptr<fw::LineFirmware> firmware;  // large (latency histograms): on the heap, at init
   fw::FirmwareApp app;
+  // The slow rate group and what it runs.
+  hal::SimConsole console;
+  fw::StatusReporter reporter;
+  fw::EventLog<32> slow_events;
+  fw::SlowRateGroup slow;
+  std::uint32_t slow_divisor = 1;  // the group's cycle runs every this many ticks
 };
 
 }  // namespace carril::sim

@@ -82,12 +82,38 @@ fw::Status declare_tasks(fw::LineFirmware& f) {
   return f.controller.check();
 }
 
+fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
+                              fw::EventSink& events) {
+  using fw::TaskSpec;
+  if (fw::Status s = slow.init(kSlowRateHz, &events); !s) return s;
+  // bind<component method>(name, rate [Hz], offset [cycles], budget [ns], component)
+  const TaskSpec table[] = {
+      TaskSpec::bind<&fw::StatusReporter::run>("status", 1.0, 0, us(2000), &reporter),
+  };
+  for (const TaskSpec& t : table) {
+    if (fw::Status s = slow.add(t); !s) return s;
+  }
+  return fw::Status::ok();
+}
+
+bool RobotTopology::start_slow_group(bool loop_is_fifo) {
+  return slow_thread.start(
+      "carril-slow", period_ns(kSlowRateHz), loop_is_fifo ? kSlowPriority : 0,
+      [](void* ctx) {
+        auto* t = static_cast<RobotTopology*>(ctx);
+        t->slow.cycle(t->clock.now_ns(), t->clock);
+      },
+      this);
+}
+
 std::unique_ptr<RobotTopology> RobotTopology::create(const fw::FirmwareConfig& config,
                                                      fw::Status& error) {
   error = config.validate();
   if (!error) return nullptr;
   auto topo = std::make_unique<RobotTopology>(config);
   error = declare_tasks(topo->firmware);
+  if (!error) return nullptr;
+  error = declare_slow_tasks(topo->slow, topo->reporter, topo->slow_events);
   if (!error) return nullptr;
   return topo;
 }
@@ -98,6 +124,7 @@ RobotTopology::RobotTopology(const fw::FirmwareConfig& cfg)
       config(cfg),
       firmware(config, clock),
       app(devices, firmware.controller),
-      loop(clock, period_ns(config.rate_hz)) {}
+      loop(clock, period_ns(config.rate_hz)),
+      reporter(firmware.status, console) {}
 
 }  // namespace carril::robot

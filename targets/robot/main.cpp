@@ -3,7 +3,10 @@
 // telemetry once.
 // Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
 // 1 a signal stopped it before the requested ticks, 2 bad usage, 3 the drives did not come up.
+#include <pthread.h>
+#include <sched.h>
 #include <Eigen/Core>
+
 #include <atomic>
 #include <charconv>
 #include <csignal>
@@ -123,6 +126,31 @@ void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
   std::printf("  state %s, fault %s\n", t.state, carril::fw::fault_name(t.fault));
 }
 
+// The slow rate group's cycles, tasks and events (its thread has stopped).
+void print_slow_group(carril::robot::RobotTopology& topo) {
+  const carril::fw::SlowCycleCounters c = topo.slow.cycle_counters();
+  std::printf(
+      "slow rate group: %.0f Hz, cycles %llu (thread %llu, missed deadlines %llu), "
+      "p99 %.0f us, max %.0f us\n",
+      c.rate_hz, static_cast<unsigned long long>(c.cycles),
+      static_cast<unsigned long long>(topo.slow_thread.cycles()),
+      static_cast<unsigned long long>(topo.slow_thread.missed_deadlines()), c.p99_us, c.max_us);
+  for (std::size_t i = 0; i < topo.slow.size(); ++i) {
+    const carril::fw::TaskCounters t = topo.slow.counters(i);
+    std::printf("  %-12s %5.1f Hz %8llu runs %8llu overruns\n", t.name, t.rate_hz,
+                static_cast<unsigned long long>(t.runs),
+                static_cast<unsigned long long>(t.overruns));
+  }
+  std::printf("  status lines written %llu\n",
+              static_cast<unsigned long long>(topo.reporter.lines()));
+  Event e;
+  while (topo.slow_events.pop(e)) {
+    char line[160];
+    carril::fw::format_event(e, double(e.t_ns) * 1e-9, line, sizeof line);
+    std::printf("  %s\n", line);
+  }
+}
+
 // State changes and faults, oldest first (the controller keeps the newest kEventLog).
 void print_events(Controller& ctl, carril::hal::TimeNs t0_ns) {
   std::printf("events (newest %zu kept):\n", Controller::kEventLog);
@@ -153,8 +181,7 @@ int main(int argc, char** argv) {
   // allocates.
   install_signal_handlers();
   carril::fw::Status status;
-  const auto topo =
-      carril::robot::RobotTopology::create(carril::robot::robot_config(), status);
+  const auto topo = carril::robot::RobotTopology::create(carril::robot::robot_config(), status);
   if (!topo) {
     std::fprintf(stderr, "carril_robot: configuration: %s\n", status.message());
     return 2;
@@ -178,6 +205,23 @@ int main(int argc, char** argv) {
   }
   std::fflush(stdout);
 
+  // Priorities: the control loop above the slow rate group, so heavy work never delays a tick.
+  // Without real-time privileges both run as ordinary threads, and that is said.
+  sched_param loop_param{};
+  loop_param.sched_priority = carril::robot::kLoopPriority;
+  const bool loop_fifo = pthread_setschedparam(pthread_self(), SCHED_FIFO, &loop_param) == 0;
+  if (!topo->start_slow_group(loop_fifo)) {
+    std::fprintf(stderr, "carril_robot: slow rate group: %s\n", topo->slow_thread.note());
+    return 2;
+  }
+  std::printf("carril_robot: control loop %s, slow rate group %s%s%s\n",
+              loop_fifo ? "SCHED_FIFO 50" : "SCHED_OTHER (no real-time privileges)",
+              topo->slow_thread.policy() == carril::hal::PeriodicThread::Policy::Fifo
+                  ? "SCHED_FIFO 10"
+                  : "SCHED_OTHER",
+              *topo->slow_thread.note() ? ": " : "", topo->slow_thread.note());
+  std::fflush(stdout);
+
   // The loop: one firmware step per period. A signal ends it at the next period (the sleep
   // restarts after the handler, so that is at most one period later).
   const carril::hal::TimeNs t0_ns = topo->clock.now_ns();
@@ -192,7 +236,8 @@ int main(int argc, char** argv) {
       },
       opt.ticks);
 
-  // Stopped: report once, outside the loop.
+  // Stopped: the slow group first (its thread reads what the loop published), then report once.
+  topo->slow_thread.stop();
   topo->firmware.refresh_telemetry();
   const FirmwareTelemetry& all = topo->firmware.telemetry();
   const carril::fw::ControllerTelemetry& tel = all.controller;
@@ -209,6 +254,7 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(tel.ticks));
   }
   print_telemetry(all, loop);
+  print_slow_group(*topo);
   print_events(topo->firmware.controller, t0_ns);
   return interrupted ? 1 : 0;
 }
