@@ -2,6 +2,7 @@
 // The outcome of an init-time check (configuration, task table, device bring-up): ok, or an error
 // message that names what failed, the value and what was expected. Fixed size: no heap, usable
 // where exceptions are off. Checks run in every build type (not asserts).
+#include <cmath>
 #include <cstdarg>
 #include <cstddef>
 #include <cstdio>
@@ -35,7 +36,8 @@ class Status {
 // Range check for one configuration field [lo, hi] (NaN fails): the error names the field, its
 // value, its unit and the range.
 inline Status check_range(const char* field, double v, double lo, double hi, const char* unit) {
-  if (v >= lo && v <= hi) return Status::ok();
+  // Quiet comparisons: a NaN fails the check without raising a floating-point trap.
+  if (std::isgreaterequal(v, lo) && std::islessequal(v, hi)) return Status::ok();
   return Status::error("%s: %g %s, expected %g to %g %s", field, v, unit, lo, hi, unit);
 }
 
@@ -45,7 +47,7 @@ class Checks {
  public:
   explicit Checks(const char* scope) : scope_(scope) {}
   Checks& range(const char* field, double v, double lo, double hi, const char* unit) {
-    if (status_.is_ok() && !(v >= lo && v <= hi)) {
+    if (status_.is_ok() && !(std::isgreaterequal(v, lo) && std::islessequal(v, hi))) {
       status_ =
           Status::error("%s.%s: %g %s, expected %g to %g %s", scope_, field, v, unit, lo, hi, unit);
     }

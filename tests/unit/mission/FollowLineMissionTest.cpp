@@ -1,0 +1,101 @@
+// FollowLineMission through the Mission interface: it reads its inputs from the bus, keeps the
+// tape and the end mark it saw, and reports generic status, state and phase names and counters.
+#include "firmware/mission/FollowLineMission.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+namespace carril::fw {
+namespace {
+
+struct Rig {
+  Topic<OdometryMsg> odom;
+  Topic<LineObservation> line;
+  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0};
+  FollowLineConfig cfg;
+  FollowLineMission mission{cfg, Footprint{0.25, 0.25}, false, true, odom, line, obstacles};
+  MissionContext ctx;
+
+  // A frame showing straight tape from 0.3 m to 1.2 m ahead, on the centre line.
+  void see_tape(hal::TimeNs t) {
+    LineObservation& o = line.edit();
+    o.detection.detected = true;
+    o.detection.centerline_floor.clear();
+    for (int i = 0; i < 10; ++i) o.detection.centerline_floor.push_back(Vec2(0.3 + 0.1 * i, 0.0));
+    o.pose = odom.get().pose;
+    line.publish(t);
+  }
+  MissionOutput step(double t_s) {
+    ctx.t_s = t_s;
+    ctx.dt_s = 0.01;
+    ctx.drives_ready = true;
+    return mission.update(ctx);
+  }
+};
+
+TEST(FollowLineMissionTest, StartsWaitingThenFollowsTapeItStandsOn) {
+  Rig r;
+  r.mission.enter(r.ctx);
+  EXPECT_STREQ(r.mission.name(), "follow_line");
+  MissionState s = r.mission.state();
+  EXPECT_EQ(s.status, MissionStatus::Starting);
+  EXPECT_STREQ(s.name, "START");
+  EXPECT_STREQ(s.phase, "wait");
+  // Devices up: a scan and a frame arrived.
+  r.obstacles.publish(1);
+  r.see_tape(1);
+  r.step(0.0);  // wait -> find
+  r.see_tape(2);
+  r.step(0.01);  // on the tape: follow
+  s = r.mission.state();
+  EXPECT_EQ(s.status, MissionStatus::Active);
+  EXPECT_STREQ(s.name, "FOLLOW");
+  EXPECT_TRUE(s.on_path);
+  EXPECT_EQ(r.mission.tape().points().size(), 10U);  // the frames went into the tape memory
+  r.see_tape(3);
+  const MissionOutput o = r.step(0.02);
+  EXPECT_TRUE(o.motion.guarded);  // following: the runner's obstacle stop applies
+  EXPECT_GT(o.motion.twist.vx, 0.0);
+}
+
+TEST(FollowLineMissionTest, WithoutDevicesItFailsWithTheFaultThatSaysWhich) {
+  Rig r;
+  r.mission.enter(r.ctx);
+  r.ctx.t_s = 0.0;
+  MissionOutput o;
+  for (int i = 0; i < 400 && o.fault == Fault::None; ++i) {
+    r.ctx.t_s = 0.01 * i;
+    r.ctx.drives_ready = false;
+    o = r.mission.update(r.ctx);
+  }
+  EXPECT_EQ(o.fault, Fault::DriveEnableTimeout);
+  EXPECT_EQ(r.mission.state().status, MissionStatus::Failed);
+  EXPECT_STREQ(r.mission.state().name, "FAULT");
+}
+
+TEST(FollowLineMissionTest, CountsUnderTheirNames) {
+  Rig r;
+  MissionCounters c;
+  r.mission.counters(c);
+  ASSERT_EQ(c.size(), 4U);
+  const char* names[] = {"line_lost_events", "line_reacquired_events", "reversed_sightings",
+                         "obstacles_avoided"};
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_STREQ(c[i].name, names[i]);
+    EXPECT_EQ(c[i].value, 0U);
+  }
+}
+
+TEST(FollowLineMissionTest, ConfigValidateNamesNestedFields) {
+  FollowLineConfig c;
+  EXPECT_TRUE(c.validate().is_ok());
+  c.tape_preview_m = -1.0;
+  EXPECT_NE(std::string(c.validate().message()).find("follow_line.tape_preview_m: -1 m"),
+            std::string::npos)
+      << c.validate().message();
+}
+
+}  // namespace
+}  // namespace carril::fw
