@@ -24,6 +24,12 @@ class LatencyStats {
   double percentile_us(double p) const;
 
  private:
+  // Upper edge of bin i, capped at the maximum [us].
+  double edge_us(int i) const {
+    const double edge = double(i + 1) * bin_us();
+    return edge < max_us() ? edge : max_us();
+  }
+
   std::array<std::uint32_t, kBins> bins_{};
   std::uint64_t overflow_ = 0;
   std::uint64_t count_ = 0;

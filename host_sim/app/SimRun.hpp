@@ -33,8 +33,10 @@ class SimRun {
   const char* state_name() const;
   const std::vector<TrajectoryRow>& rows() const { return rows_; }
   const std::vector<CollisionPoint>& collisions() const { return collisions_; }
-  // Firmware events (state changes, faults) as log lines, since the last call.
+  // Firmware events (state changes, phases, faults) as log lines, since the last call.
   std::vector<std::string> take_log();
+  // Task overrun events (throttled), as log lines, since the start of the run.
+  const std::vector<std::string>& overrun_log() const { return overrun_log_; }
   SimTopology& topology() { return topo_; }
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t allocations_in_ticks() const;
@@ -56,6 +58,7 @@ class SimRun {
   std::vector<TrajectoryRow> rows_;
   std::vector<CollisionPoint> collisions_;
   std::vector<std::string> log_;
+  std::vector<std::string> overrun_log_;
 };
 
 }  // namespace carril::sim

@@ -116,6 +116,7 @@ std::string summary_to_json(const RunSummary& s) {
     for (const auto& [name, value] : s.mission_counters) counters.integer(name, value);
     w.raw("mission_counters", counters.finish_inline());
   }
+  w.integer("task_overrun_events", s.task_overrun_events);
   return w.finish();
 }
 

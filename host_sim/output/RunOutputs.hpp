@@ -52,6 +52,9 @@ struct RunSummary {
   std::string mission;
   std::string mission_status;
   std::vector<std::pair<std::string, long>> mission_counters;
+  // Throttled task-overrun events of the firmware (this host's compute time against each
+  // task's budget: at most one per task and second).
+  long task_overrun_events = 0;
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).

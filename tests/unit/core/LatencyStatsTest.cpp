@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+#include <vector>
+
 #include <memory>
 
 namespace carril::fw {
@@ -111,6 +114,50 @@ TEST(LatencyStatsTest, WideBinsCoverSlowWork) {
   EXPECT_DOUBLE_EQ(s->bin_us(), 50.0);
   s->add(30'000'010);
   EXPECT_DOUBLE_EQ(s->percentile_us(0.5), 30'000.01);  // bin edge 30050 capped at the max
+}
+
+// The percentile walk starts from the nearer end; it must give exactly what a walk from the
+// bottom gives, for any quantile and any spread of samples (including overflow and ties).
+double percentile_by_forward_walk(const std::vector<std::int64_t>& samples, double p,
+                                  std::int64_t bin_ns) {
+  const int bins = LatencyStats::kBins;
+  std::vector<std::uint64_t> hist(bins, 0);
+  std::int64_t max_ns = 0;
+  for (std::int64_t v : samples) {
+    v = v < 0 ? 0 : v;
+    max_ns = v > max_ns ? v : max_ns;
+    if (v / bin_ns < bins) ++hist[std::size_t(v / bin_ns)];
+  }
+  const double max_us = double(max_ns) / 1e3;
+  auto rank = static_cast<std::uint64_t>(p * double(samples.size()) + 0.999999);
+  rank = rank < 1 ? 1 : (rank > samples.size() ? samples.size() : rank);
+  std::uint64_t seen = 0;
+  for (int i = 0; i < bins; ++i) {
+    seen += hist[std::size_t(i)];
+    if (seen >= rank) {
+      const double edge = double(i + 1) * double(bin_ns) / 1e3;
+      return edge < max_us ? edge : max_us;
+    }
+  }
+  return max_us;
+}
+
+TEST(LatencyStatsTest, EitherEndGivesTheSamePercentileAsAWalkFromTheBottom) {
+  std::mt19937_64 rng(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::int64_t bin_ns = trial % 2 == 0 ? 250 : 50'000;
+    std::vector<std::int64_t> samples;
+    const int n = 1 + int(rng() % 500);
+    const std::int64_t spread = std::int64_t(1) << (rng() % 26);  // 1 ns to 33 ms
+    for (int i = 0; i < n; ++i) samples.push_back(std::int64_t(rng() % std::uint64_t(spread)));
+    if (trial % 5 == 0) samples.push_back(bin_ns * LatencyStats::kBins * 2);  // overflow
+    LatencyStats st(bin_ns);
+    for (std::int64_t v : samples) st.add(v);
+    for (const double p : {0.0, 0.01, 0.3, 0.5, 0.51, 0.9, 0.99, 0.999, 1.0}) {
+      ASSERT_EQ(st.percentile_us(p), percentile_by_forward_walk(samples, p, bin_ns))
+          << "trial " << trial << " p " << p << " n " << samples.size();
+    }
+  }
 }
 
 }  // namespace
