@@ -30,7 +30,9 @@ class LatencyStats {
     return edge < max_us() ? edge : max_us();
   }
 
+  static constexpr std::size_t kBlockBins = 128;  // bins per block of the coarse histogram
   std::array<std::uint32_t, kBins> bins_{};
+  std::array<std::uint64_t, kBins / kBlockBins> blocks_{};  // sums of bins_, block by block
   std::uint64_t overflow_ = 0;
   std::uint64_t count_ = 0;
   std::int64_t max_ns_ = 0;
