@@ -27,6 +27,8 @@ void LineFirmware::refresh_telemetry() {
   mission.counters(t.mission_counters);
   t.runner = runner.telemetry();
   t.watch = watch.telemetry();
+  t.odometry = odometry.telemetry();
+  t.output = output.telemetry();
   t.perception = perception.telemetry();
   t.obstacles = obstacle_sensing.telemetry();
   t.odom = bus.odometry.get().pose;

@@ -30,6 +30,8 @@ struct FirmwareTelemetry {
   MissionCounters mission_counters;
   MissionRunnerTelemetry runner;
   SensorWatchTelemetry watch;
+  WheelOdometryTelemetry odometry;
+  MotionOutputTelemetry output;
   LinePerceptionTelemetry perception;
   ObstacleSensingTelemetry obstacles;
   Pose2 odom;

@@ -22,15 +22,18 @@ void MotionOutput::run() {
     cmd.wheel_radps.fill(0.0F);
     cmd.twist = {};
     limiter_.reset();
+    ++tel_.quick_stops;
   } else {
     Twist want = request_.get().twist;
     if (!drives_enabled(f.wheels, kin_.wheel_count())) {
       want = {};
       limiter_.reset();
+      ++tel_.drives_not_ready;
     }
     cmd.drive = DriveRequest::Run;
     cmd.twist = limiter_.apply(want, cmd.wheel_radps.data());
   }
+  ++tel_.commands;
   out_.publish(f.now_ns);
 }
 

@@ -3,13 +3,21 @@
 // it feasible (MotionLimiter: speed, acceleration and wheel-speed limits) and publishes the
 // actuator command; zero while the drives are not all enabled, and a quick stop once a fault has
 // latched, whatever was requested.
+#include <cstdint>
 #include "firmware/control/MotionLimiter.hpp"
 #include "firmware/control/MotionRequest.hpp"
+
 #include "firmware/core/FaultSink.hpp"
 #include "firmware/core/Frames.hpp"
 #include "firmware/core/Topic.hpp"
 
 namespace carril::fw {
+
+struct MotionOutputTelemetry {
+  std::uint64_t commands = 0;          // actuator commands published
+  std::uint64_t drives_not_ready = 0;  // of them zero because a drive was not enabled
+  std::uint64_t quick_stops = 0;       // of them quick stops (a fault had latched)
+};
 
 class MotionOutput {
  public:
@@ -19,6 +27,7 @@ class MotionOutput {
 
   // Task: one actuator command.
   void run();
+  const MotionOutputTelemetry& telemetry() const { return tel_; }
 
  private:
   const DriveKinematics& kin_;
@@ -27,6 +36,7 @@ class MotionOutput {
   const Topic<MotionRequest>& request_;
   Topic<ActuatorCommand>& out_;
   const FaultSink& faults_;
+  MotionOutputTelemetry tel_;
 };
 
 }  // namespace carril::fw

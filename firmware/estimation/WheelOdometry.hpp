@@ -1,6 +1,8 @@
 #pragma once
 // Component: dead reckoning from the wheel encoders. Reads the sensor frame, publishes the
 // odometry pose and the measured body twist every tick.
+#include <cstdint>
+
 #include "firmware/core/Frames.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/Odometry.hpp"
@@ -13,6 +15,11 @@ struct OdometryMsg {
   Twist twist;  // measured from wheel speeds [m/s, m/s, rad/s]
 };
 
+struct WheelOdometryTelemetry {
+  std::uint64_t updates = 0;  // encoder readings integrated
+  double distance_m = 0.0;    // path length driven, from the encoders [m]
+};
+
 class WheelOdometry {
  public:
   WheelOdometry(const DriveKinematics& kin, const Topic<SensorFrame>& frame,
@@ -21,11 +28,13 @@ class WheelOdometry {
 
   // Task: one encoder reading in, one odometry message out.
   void run();
+  const WheelOdometryTelemetry& telemetry() const { return tel_; }
 
  private:
   Odometry odom_;
   const Topic<SensorFrame>& frame_;
   Topic<OdometryMsg>& out_;
+  WheelOdometryTelemetry tel_;
 };
 
 }  // namespace carril::fw
