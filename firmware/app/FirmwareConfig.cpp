@@ -1,6 +1,7 @@
 #include "firmware/app/FirmwareConfig.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace carril::fw {
 
@@ -23,9 +24,9 @@ void apply_sensor_rates(FirmwareConfig& c) {
   c.watch.camera_timeout_s = std::max(0.2, 3.0 / c.camera.rate_hz);
   c.watch.scanner_timeout_s = std::max(0.5, 5.0 / c.lidar.rate_hz);
   c.watch.lidar_present = c.lidar.present;
-  const int scans = static_cast<int>(c.lidar.rate_hz * 0.25 + 0.5);
+  const int scans = static_cast<int>(std::lround(c.lidar.rate_hz * 0.25));
   c.lidar.health.window_scans = std::clamp(scans, 2, ScanHealth::kMaxWindow);
-  const int frames = static_cast<int>(c.camera.rate_hz * 0.2 + 0.5);
+  const int frames = static_cast<int>(std::lround(c.camera.rate_hz * 0.2));
   c.camera.health.blank_frames = std::max(frames, 2);
   c.watch.imu.max_yaw_rate_radps = 4.0 * c.limits.max_yaw_rate_radps;
 }
