@@ -9,5 +9,8 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE BOTH)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
-# Cross-built tests run under qemu-user.
-set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /usr/aarch64-linux-gnu)
+# Cross-built tests run under qemu-user, against Debian's arm64 runtime (libc6:arm64,
+# libstdc++6:arm64, libyaml-cpp0.7:arm64 in /lib/aarch64-linux-gnu; tools/setup.sh installs them),
+# as on the robot. Not against the cross sysroot: its dynamic loader would search
+# /lib/aarch64-linux-gnu too and load that libc, mixing two builds of glibc in one process.
+set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /)

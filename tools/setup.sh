@@ -8,6 +8,10 @@ packages=(
   libeigen3-dev libopencv-dev libbox2d-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   g++-aarch64-linux-gnu qemu-user
+  # The robot target reads its configuration with yaml-cpp: the arm64 runtime library (with
+  # Debian's arm64 libc and libstdc++ as its dependencies) for the cross build and for qemu.
+  # Not libyaml-cpp-dev:arm64, which would replace the host's libyaml-cpp-dev.
+  libyaml-cpp0.7:arm64
   can-utils user-mode-linux kmod
   rt-tests
   clang libclang-rt-14-dev # libclang-rt-14-dev holds libFuzzer (-fsanitize=fuzzer)
@@ -29,8 +33,14 @@ sudo_cmd=()
 [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
 log=$(mktemp "${TMPDIR:-/tmp}/carril-setup.XXXXXX.log")
 export DEBIAN_FRONTEND=noninteractive
-if ! { "${sudo_cmd[@]}" apt-get update -q && "${sudo_cmd[@]}" apt-get install -y -q \
-  --no-install-recommends "${missing[@]}"; } </dev/null >"$log" 2>&1; then
+# arm64 packages need the architecture enabled (once) before apt-get update lists them.
+add_arm64=(true)
+if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  add_arm64=("${sudo_cmd[@]}" dpkg --add-architecture arm64)
+fi
+if ! { "${add_arm64[@]}" && "${sudo_cmd[@]}" apt-get update -q &&
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"; } \
+  </dev/null >"$log" 2>&1; then
   echo "setup: apt-get failed; the last lines of its log ($log):" >&2
   tail -n 40 "$log" >&2
   exit 1

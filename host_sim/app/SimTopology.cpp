@@ -5,49 +5,24 @@
 #include <stdexcept>
 #include <string>
 
-#include "host_sim/scenario/ColorCheck.hpp"
+#include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
-
 constexpr std::int64_t us(double v) {
   return static_cast<std::int64_t>(v * 1e3);
 }
 }  // namespace
 
 fw::FirmwareConfig firmware_config(const Scenario& s) {
-  const RobotSpec& r = s.robot;
-  fw::FirmwareConfig c;
-  c.rate_hz = r.control_rate_hz;
-  c.drive = drive_geometry(r);
-  c.footprint_length_m = r.length_m;
-  c.footprint_width_m = r.width_m;
-  c.limits.max_speed_mps = r.limits.max_speed_mps;
-  c.limits.max_yaw_rate_radps = r.limits.max_yaw_rate_radps;
-  c.limits.max_accel_mps2 = r.limits.max_accel_mps2;
-  c.limits.max_wheel_speed_radps = r.limits.max_wheel_speed_radps;
-  c.camera.camera = camera_mount(r.camera);
-  c.camera.rate_hz = r.camera.rate_hz;
-  c.lidar.present = true;
-  c.lidar.x_m = r.lidar.x_m;
-  c.lidar.y_m = r.lidar.y_m;
-  c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
-  c.lidar.rate_hz = r.lidar.rate_hz;
-  c.watch.imu_present = true;
-  c.camera.detector.line = detector_threshold(s.mission.line_color_name, s.mission.line_color);
-  c.camera.detector.end = detector_threshold(s.mission.end_color_name, s.mission.end_color);
-  fw::StrategyConfig& st = c.follow_line.strategy;
-  st.strategy = s.mission.strategy == "line_priority" ? fw::Strategy::LinePriority
-                : s.mission.strategy == "pid"         ? fw::Strategy::Pid
-                                                      : fw::Strategy::Marks;
-  st.speed_mps = s.mission.speed_mps;
-  st.pid_straight.speed_mps = s.mission.speed_mps;
-  st.pid_curve.speed_mps = 0.8 * s.mission.speed_mps;
-  c.follow_line.behavior.init_timeout_s = 3.0;
-  fw::apply_sensor_rates(c);
-  return c;
+  // The same builder as the robot target's; a rejection reads as SimTopology's own would.
+  const loader::BuildResult b = loader::build_firmware_config(s.robot, s.mission);
+  if (!b.ok) {
+    throw std::invalid_argument(s.source_path + ": firmware configuration: " +
+                                (b.firmware_error.empty() ? b.error : b.firmware_error));
+  }
+  return b.config;
 }
 
 fw::Status declare_tasks(fw::LineFirmware& f) {

@@ -7,76 +7,25 @@
 #include <string>
 #include <vector>
 
+#include "loader/MissionSpec.hpp"
+#include "loader/RobotSpec.hpp"
+
 namespace carril::sim {
 
-struct Rgb {
-  std::uint8_t r = 0, g = 0, b = 0;
-  bool operator==(const Rgb&) const = default;
-};
+// The robot and the mission are described by the shared loader's types (loader/), the same
+// on the robot target.
+using loader::CameraSpec;
+using loader::DriveType;
+using loader::ImuSpec;
+using loader::LidarSpec;
+using loader::LimitsSpec;
+using loader::MissionSpec;
+using loader::Pose2;
+using loader::Rgb;
+using loader::RobotSpec;
 
 struct Vec2 {
   double x = 0.0, y = 0.0;
-};
-
-struct Pose2 {
-  double x = 0.0, y = 0.0, yaw_rad = 0.0;
-};
-
-enum class DriveType { Differential, Mecanum };
-
-// Downward-tilted pinhole camera, mounted looking forward along the robot's x axis.
-struct CameraSpec {
-  double x_m = 0.0, y_m = 0.0, z_m = 0.5;  // optical centre in the robot frame [m]
-  double tilt_deg = 45.0;                  // optical axis below horizontal [deg]
-  double hfov_deg = 60.0;                  // horizontal field of view [deg]
-  int width = 640, height = 480;           // [px]
-  double rate_hz = 30.0;                   // frame rate [Hz]
-  double noise_std = 0.0;                  // Gaussian pixel noise, per channel [0..255 units]
-};
-
-struct LidarSpec {
-  double x_m = 0.0, y_m = 0.0;  // mount position in the robot frame [m]
-  double yaw_deg = 0.0;         // mount heading relative to robot x [deg]
-  double fov_deg = 270.0;       // field of view, centred on the mount heading [deg]
-  int beams = 541;
-  double range_min_m = 0.05, range_max_m = 20.0;  // [m]
-  double rate_hz = 20.0;                          // [Hz]
-  double noise_std_m = 0.0;                       // Gaussian range noise [m]
-};
-
-struct LimitsSpec {
-  double max_speed_mps = 1.0;            // body linear speed [m/s]
-  double max_yaw_rate_radps = 1.5;       // body yaw rate [rad/s]
-  double max_accel_mps2 = 1.0;           // body linear acceleration [m/s^2]
-  double max_wheel_speed_radps = 10.0;   // each wheel [rad/s]
-  double max_wheel_accel_radps2 = 20.0;  // each wheel [rad/s^2]
-};
-
-// A robot preset (config/robots/<name>.yaml) after the scenario's overrides are applied.
-struct RobotSpec {
-  std::string preset;  // campero | pioneer3at
-  DriveType drive = DriveType::Differential;
-  double length_m = 0.5, width_m = 0.5;  // body footprint [m]
-  double mass_kg = 30.0;
-  double wheel_radius_m = 0.1;     // [m]
-  double wheelbase_m = 0.4;        // front-rear axle distance (mecanum) [m]
-  double track_m = 0.4;            // left-right wheel distance [m]
-  double cruise_speed_mps = 0.5;   // default mission speed [m/s]
-  double control_rate_hz = 100.0;  // firmware tick rate [Hz]
-  CameraSpec camera;
-  LidarSpec lidar;
-  LimitsSpec limits;
-  Pose2 start;  // from the scenario
-};
-
-struct MissionSpec {
-  std::string type = "follow_line";  // follow_line
-  std::string strategy = "pid";      // line_priority | marks | pid
-  Rgb line_color{255, 255, 255};
-  std::string line_color_name = "white";  // name as written, or "[r, g, b]"
-  Rgb end_color{255, 255, 0};
-  std::string end_color_name = "yellow";
-  double speed_mps = 0.5;  // cruise speed; the preset's when the file omits it [m/s]
 };
 
 struct LineSpec {

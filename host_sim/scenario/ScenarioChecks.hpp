@@ -4,9 +4,11 @@
 // the end mark from the floor and from each other. Each throws strict::LoadError with the usual
 // "<file>:<line>: <key>: expected ..., got ..." message.
 #include "host_sim/scenario/Scenario.hpp"
-#include "host_sim/scenario/StrictYaml.hpp"
+#include "loader/StrictYaml.hpp"
 
 namespace carril::sim {
+
+namespace strict = loader::strict;
 
 // `root` is the scenario document (for the line and key of the message).
 void check_start_clear(const strict::Node& root, const Scenario& s);

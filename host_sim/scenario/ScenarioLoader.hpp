@@ -2,6 +2,8 @@
 #include <string>
 
 #include "host_sim/scenario/Scenario.hpp"
+#include "loader/MissionLoader.hpp"
+#include "loader/RobotLoader.hpp"
 
 namespace carril::sim {
 
@@ -35,13 +37,13 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
                               const std::string& robots_dir,
                               const ScenarioOverrides& overrides = {});
 
-// Reads one robot preset file strictly.
-bool load_robot_preset(const std::string& path, RobotSpec& out, std::string& error);
+// Robot preset files are read by the shared loader (loader/RobotLoader.hpp).
+using loader::load_robot_preset;
 
 // Default robots directory: $CARRIL_ROBOTS_DIR, else the source tree's config/robots.
 std::string default_robots_dir();
 
-// Named colours: white, black, red, green, blue, yellow.
-bool color_from_name(const std::string& name, Rgb& out);
+// Named colours: white, black, red, green, blue, yellow (loader/MissionLoader.hpp).
+using loader::color_from_name;
 
 }  // namespace carril::sim

@@ -48,18 +48,6 @@ std::vector<Vec2> rect(Vec2 c, double yaw, double hx, double hy) {
 }
 }  // namespace
 
-fw::CameraMount camera_mount(const CameraSpec& s) {
-  fw::CameraMount m;
-  m.x_m = s.x_m;
-  m.y_m = s.y_m;
-  m.z_m = s.z_m;
-  m.tilt_rad = s.tilt_deg * kDeg;
-  m.hfov_rad = s.hfov_deg * kDeg;
-  m.width = s.width;
-  m.height = s.height;
-  return m;
-}
-
 CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
     : scenario_(scenario),
       cam_(camera_mount(scenario.robot.camera)),

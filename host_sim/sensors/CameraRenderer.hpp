@@ -18,6 +18,7 @@
 #include "firmware/perception/CameraModel.hpp"
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
 
@@ -52,6 +53,7 @@ class CameraRenderer {
   std::mt19937_64 rng_;
 };
 
-fw::CameraMount camera_mount(const CameraSpec& spec);
+// The firmware configuration's own mapping, so the rendered image is the one it expects.
+using loader::camera_mount;
 
 }  // namespace carril::sim

@@ -5,15 +5,6 @@
 
 namespace carril::sim {
 
-fw::DriveGeometry drive_geometry(const RobotSpec& robot) {
-  fw::DriveGeometry g;
-  g.type = robot.drive == DriveType::Mecanum ? fw::DriveType::Mecanum : fw::DriveType::Differential;
-  g.wheel_radius_m = robot.wheel_radius_m;
-  g.wheelbase_m = robot.wheelbase_m;
-  g.track_m = robot.track_m;
-  return g;
-}
-
 // Counts each new contact that involves the robot (Box2D reports a contact once when it begins).
 class SimWorld::ContactCounter : public b2ContactListener {
  public:

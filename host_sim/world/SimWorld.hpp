@@ -10,6 +10,7 @@
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
 
@@ -60,6 +61,7 @@ class SimWorld {
   std::vector<ContactStart> new_contacts_;
 };
 
-fw::DriveGeometry drive_geometry(const RobotSpec& robot);
+// The firmware configuration's own mapping, so the simulated wheels are the ones it drives.
+using loader::drive_geometry;
 
 }  // namespace carril::sim

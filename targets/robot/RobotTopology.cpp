@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace carril::robot {
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 hal::TimeNs period_ns(double rate_hz) {
   return static_cast<hal::TimeNs>(std::llround(1e9 / rate_hz));
 }
@@ -17,40 +14,6 @@ constexpr std::int64_t us(double v) {
   return static_cast<std::int64_t>(v * 1e3);
 }
 }  // namespace
-
-fw::FirmwareConfig robot_config() {
-  fw::FirmwareConfig c;
-  c.rate_hz = 100.0;
-  c.drive.type = fw::DriveType::Mecanum;
-  c.drive.wheel_radius_m = 0.127;
-  c.drive.wheelbase_m = 0.60;
-  c.drive.track_m = 0.60;
-  c.footprint_length_m = 0.98;
-  c.footprint_width_m = 0.78;
-  c.limits.max_speed_mps = 1.5;
-  c.limits.max_yaw_rate_radps = 1.5;
-  c.limits.max_accel_mps2 = 1.0;
-  c.limits.max_wheel_speed_radps = 12.0;
-  // Camera on the front mast, looking down at the floor ahead of the bumper.
-  c.camera.camera.x_m = 0.49;
-  c.camera.camera.y_m = 0.0;
-  c.camera.camera.z_m = 0.90;
-  c.camera.camera.tilt_rad = 55.0 * kDeg;
-  c.camera.camera.hfov_rad = 54.2 * kDeg;
-  c.camera.camera.width = 640;
-  c.camera.camera.height = 480;
-  c.camera.rate_hz = 30.0;
-  c.lidar.present = true;  // campero has one; its backend comes with the CAN/Ethernet drivers
-  c.lidar.x_m = 0.45;
-  c.lidar.y_m = -0.35;
-  c.lidar.yaw_rad = -45.0 * kDeg;
-  c.lidar.rate_hz = 20.0;
-  c.watch.imu_present = false;  // no IMU backend yet (hal::NullImu)
-  c.follow_line.strategy.strategy = fw::Strategy::LinePriority;  // mecanum: the thesis's best
-  c.follow_line.strategy.speed_mps = 0.5;
-  fw::apply_sensor_rates(c);
-  return c;
-}
 
 fw::Status declare_tasks(fw::LineFirmware& f) {
   using fw::TaskSpec;
@@ -119,7 +82,7 @@ std::unique_ptr<RobotTopology> RobotTopology::create(const fw::FirmwareConfig& c
 }
 
 RobotTopology::RobotTopology(const fw::FirmwareConfig& cfg)
-    : drives(4),  // mecanum: front-left, front-right, rear-left, rear-right
+    : drives(fw::DriveKinematics(cfg.drive).wheel_count()),  // in the kinematics' wheel order
       devices{clock, drives, camera, scanner, imu},
       config(cfg),
       firmware(config, clock),

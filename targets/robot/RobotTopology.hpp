@@ -20,10 +20,6 @@
 
 namespace carril::robot {
 
-// Firmware configuration of the robot (campero's values from config/robots/campero.yaml,
-// hardcoded: the target has no YAML reader yet).
-fw::FirmwareConfig robot_config();
-
 // The firmware's task table on the robot: which component runs at what rate (from the configured
 // sensor rates), on which tick of its period, with what time budget.
 fw::Status declare_tasks(fw::LineFirmware& fw);
@@ -49,7 +45,11 @@ struct RobotTopology {
 
   // Time: CLOCK_MONOTONIC, absolute-deadline sleeps.
   hal::LinuxClock clock;
-  // Devices. No CAN backend yet: null stand-ins that report "nothing there".
+  // Devices. No CAN backend yet: null stand-ins that report "nothing there". The configuration
+  // still says what the robot description says is fitted: a fitted lidar that never reports
+  // holds the mission in START until its init timeout (scanner_timeout, or an earlier fault), and
+  // a fitted IMU that gives no valid sample is not judged. So the robot never moves on a sensor it
+  // cannot hear, and no C++ decides what the robot has.
   hal::NullCamera camera;
   hal::NullRangeScanner scanner;
   hal::NullImu imu;

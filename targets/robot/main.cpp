@@ -1,11 +1,14 @@
 // carril_robot: the firmware on the robot computer. Wires the robot (RobotTopology), runs the
 // firmware at its configured rate on absolute deadlines and, when it stops, prints the firmware's
 // telemetry once.
+// Its configuration comes from the robot description, mission and (optional) tuning files given on
+// the command line, through the same loader as the simulator's (loader/).
 // Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
-// 1 a signal stopped it before the requested ticks, 2 bad usage, 3 the drives did not come up.
+// 1 a signal stopped it before the requested ticks, 2 bad usage or configuration, 3 the drives
+// did not come up.
+#include <Eigen/Core>
 #include <pthread.h>
 #include <sched.h>
-#include <Eigen/Core>
 
 #include <atomic>
 #include <charconv>
@@ -14,9 +17,14 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "firmware/app/EventFormat.hpp"
+#include "loader/FirmwareConfigBuilder.hpp"
+#include "loader/MissionLoader.hpp"
+#include "loader/RobotLoader.hpp"
+#include "loader/TuningLoader.hpp"
 #include "targets/robot/RobotTopology.hpp"
 
 namespace {
@@ -43,17 +51,23 @@ void install_signal_handlers() {
 }
 
 constexpr const char* kUsage =
-    "usage: carril_robot [--ticks N]\n"
+    "usage: carril_robot --robot FILE --mission FILE [--tuning FILE] [--ticks N]\n"
     "  Runs the line-following firmware on the robot at its control rate.\n"
-    "  --ticks N   stop after N control ticks (N >= 1); default: run until SIGINT or SIGTERM\n"
-    "  --help      print this and exit\n"
+    "  --robot FILE    the robot description (config/robots/<name>.yaml)\n"
+    "  --mission FILE  the mission (config/missions/<name>.yaml)\n"
+    "  --tuning FILE   component tuning (config/tuning/<name>.yaml); default: none\n"
+    "  --ticks N       stop after N control ticks (N >= 1); default: run until SIGINT or SIGTERM\n"
+    "  --help          print this and exit\n"
     "Prints the firmware telemetry when it stops.\n"
     "Exit status: 0 ran the requested ticks (or until a signal, without --ticks),\n"
-    "1 a signal stopped it before the requested ticks, 2 bad usage,\n"
-    "3 the drives did not come up.\n";
+    "1 a signal stopped it before the requested ticks, 2 bad usage or configuration\n"
+    "(the message names the file and the key), 3 the drives did not come up.\n";
 
 struct Options {
-  std::uint64_t ticks = 0;  // 0: until a signal
+  const char* robot = nullptr;    // --robot FILE
+  const char* mission = nullptr;  // --mission FILE
+  const char* tuning = nullptr;   // --tuning FILE (optional)
+  std::uint64_t ticks = 0;        // 0: until a signal
   bool help = false;
 };
 
@@ -64,6 +78,16 @@ struct UsageError {
 
 // Plain argv parsing (no CLI library on the target). Returns false with the reason in `err`.
 bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
+  struct Valued {
+    const char* name;
+    const char** file;  // a file option's value, or nullptr for --ticks
+  };
+  const Valued options[] = {
+      {"--robot", &opt.robot},
+      {"--mission", &opt.mission},
+      {"--tuning", &opt.tuning},
+      {"--ticks", nullptr},
+  };
   bool have_ticks = false;
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
@@ -72,33 +96,90 @@ bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
       opt.help = true;
       return true;
     }
-    std::string_view value;
-    if (arg == "--ticks") {
-      if (i + 1 >= argc) {
-        err.why = "--ticks needs a value";
-        return false;
+    const Valued* which = nullptr;
+    const char* value = nullptr;
+    for (const Valued& o : options) {
+      const std::string_view name = o.name;
+      if (arg == name) {
+        if (i + 1 >= argc) {
+          err.why = "option needs a value";
+          return false;
+        }
+        which = &o;
+        value = argv[++i];
+      } else if (arg.size() > name.size() && arg.starts_with(name) && arg[name.size()] == '=') {
+        which = &o;
+        value = argv[i] + name.size() + 1;
       }
-      value = argv[++i];
-      err.arg = argv[i];
-    } else if (arg.starts_with("--ticks=")) {
-      value = arg.substr(std::strlen("--ticks="));
-    } else {
+      if (which != nullptr) break;
+    }
+    if (which == nullptr) {
       err.why = "unknown argument";
       return false;
+    }
+    err.arg = value;
+    if (which->file != nullptr) {
+      if (*which->file != nullptr) {
+        err.why = "option given more than once";
+        err.arg = which->name;
+        return false;
+      }
+      if (value[0] == '\0') {
+        err.why = "option needs a file name";
+        err.arg = which->name;
+        return false;
+      }
+      *which->file = value;
+      continue;
     }
     if (have_ticks) {
       err.why = "--ticks given more than once";
       return false;
     }
     have_ticks = true;
+    const std::string_view v = value;
     std::uint64_t n = 0;
-    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
-    if (value.empty() || ec != std::errc{} || end != value.data() + value.size() || n == 0) {
+    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+    if (v.empty() || ec != std::errc{} || end != v.data() + v.size() || n == 0) {
       err.why = "--ticks needs a whole number of ticks >= 1";
       return false;
     }
     opt.ticks = n;
   }
+  if (opt.robot == nullptr || opt.mission == nullptr) {
+    err.why = "missing required option";
+    err.arg = opt.robot == nullptr ? "--robot" : "--mission";
+    return false;
+  }
+  return true;
+}
+
+// The firmware configuration from the files on the command line, built by the same loader as
+// the simulator's. Prints the reason (file and key) and returns false when a file is missing or
+// wrong.
+bool load_config(const Options& opt, carril::loader::RobotSpec& robot,
+                 carril::loader::MissionSpec& mission, carril::fw::FirmwareConfig& out) {
+  std::string error;
+  if (!carril::loader::load_robot_preset(opt.robot, robot, error)) {
+    std::fprintf(stderr, "carril_robot: --robot: %s\n", error.c_str());
+    return false;
+  }
+  if (!carril::loader::load_mission(opt.mission, robot, mission, error)) {
+    std::fprintf(stderr, "carril_robot: --mission: %s\n", error.c_str());
+    return false;
+  }
+  carril::loader::Tuning tuning;
+  if (opt.tuning != nullptr && !carril::loader::load_tuning(opt.tuning, tuning, error)) {
+    std::fprintf(stderr, "carril_robot: --tuning: %s\n", error.c_str());
+    return false;
+  }
+  const carril::loader::BuildResult built = carril::loader::build_firmware_config(
+      robot, mission, opt.tuning != nullptr ? &tuning : nullptr);
+  if (!built.ok) {
+    std::fprintf(stderr, "carril_robot: configuration: %s\n", built.error.c_str());
+    return false;
+  }
+  out = built.config;
   return true;
 }
 
@@ -177,21 +258,31 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  // Init: everything is created and wired here, before the first tick; nothing after this
+  // Init: everything is read, created and wired here, before the first tick; nothing after this
   // allocates.
   install_signal_handlers();
+  carril::loader::RobotSpec robot;
+  carril::loader::MissionSpec mission;
+  carril::fw::FirmwareConfig config;
+  if (!load_config(opt, robot, mission, config)) return 2;
   carril::fw::Status status;
-  const auto topo = carril::robot::RobotTopology::create(carril::robot::robot_config(), status);
+  const auto topo = carril::robot::RobotTopology::create(config, status);
   if (!topo) {
     std::fprintf(stderr, "carril_robot: configuration: %s\n", status.message());
     return 2;
   }
   const carril::fw::FirmwareConfig& cfg = topo->config;
+  std::printf("carril_robot: robot %s (%s), mission %s %s (%s)\n", robot.preset.c_str(), opt.robot,
+              mission.type.c_str(), mission.strategy.c_str(), opt.mission);
   std::printf(
-      "carril_robot: mecanum, wheel radius %.3f m, wheelbase %.2f m, track %.2f m, camera %dx%d, "
-      "%.0f Hz; devices: null camera, lidar, imu and %d drives (no CAN backend yet)\n",
+      "carril_robot: %s, wheel radius %.3f m, wheelbase %.2f m, track %.2f m, camera %dx%d, "
+      "%.0f Hz; lidar %s, imu %s\n",
+      cfg.drive.type == carril::fw::DriveType::Mecanum ? "mecanum" : "differential",
       cfg.drive.wheel_radius_m, cfg.drive.wheelbase_m, cfg.drive.track_m, cfg.camera.camera.width,
-      cfg.camera.camera.height, cfg.rate_hz, topo->drives.count());
+      cfg.camera.camera.height, cfg.rate_hz, cfg.lidar.present ? "fitted" : "not fitted",
+      cfg.watch.imu_present ? "fitted" : "not fitted");
+  std::printf("carril_robot: devices: null camera, lidar, imu and %d drives (no CAN backend yet)\n",
+              topo->drives.count());
   // Drive bring-up (on a bus: boot-up, configuration) happens once, before the first tick.
   const carril::hal::DriveInitResult up = topo->drives.init();
   if (!up.ok) {

@@ -188,6 +188,29 @@ TEST(ScenarioErrors, BrokenPresetFileIsNamed) {
   EXPECT_EQ(error, (dir / "missing.yaml").string() + ": cannot open");
 }
 
+TEST(ScenarioErrors, PresetWithoutALidarIsRejected) {
+  // The simulator always simulates the lidar: a robot file saying it has none cannot be run.
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "carril_no_lidar_robots";
+  std::filesystem::create_directories(dir);
+  std::string preset;
+  {
+    std::ifstream in(test::robots_dir() + "/campero.yaml");
+    preset.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  {
+    std::ofstream out(dir / "campero.yaml");
+    out << edit(preset, "lidar: {x_m", "lidar: {present: false, x_m");
+  }
+  const LoadResult r = load_scenario_text(kFullYaml, kPath, dir.string());
+  EXPECT_TRUE(fails_with(r, {at_line(kFullYaml, "preset: campero") +
+                             "robot.preset: expected a robot with a lidar (the simulator always "
+                             "simulates one; " +
+                             (dir / "campero.yaml").string() + " says lidar.present: false)"}));
+  // A scenario cannot switch it off either: present is not an override key.
+  EXPECT_TRUE(fails_with(edit(kFullYaml, "lidar: {beams: 271}", "lidar: {present: false}"),
+                         {"robot.lidar.present: unknown key"}));
+}
+
 TEST(ScenarioErrors, YamlSyntaxErrorNamesFileAndLine) {
   const std::string yaml = edit(kFullYaml, "seed: 7", "seed: [7, 8");
   const LoadResult r = test::load(yaml);

@@ -1,12 +1,13 @@
-#include "host_sim/scenario/StrictYaml.hpp"
+#include "loader/StrictYaml.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
-namespace carril::sim::strict {
+namespace carril::loader::strict {
 
 namespace {
 
@@ -29,7 +30,7 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
-std::string join(std::initializer_list<std::string_view> names) {
+std::string join(const std::vector<std::string_view>& names) {
   std::string out;
   for (auto n : names) {
     if (!out.empty()) out += ", ";
@@ -151,6 +152,14 @@ Node Node::child(const YAML::Node& n, std::string_view key) const {
 }
 
 void Node::expect_map(std::initializer_list<std::string_view> allowed) const {
+  expect_map(std::vector<std::string_view>(allowed));
+}
+
+void Node::expect_map(const std::vector<std::string>& allowed) const {
+  expect_map(std::vector<std::string_view>(allowed.begin(), allowed.end()));
+}
+
+void Node::expect_map(const std::vector<std::string_view>& allowed) const {
   if (!node_.IsMap()) expected("a map");
   reject_tag("a map");
   std::vector<std::pair<std::string, int>> seen;  // key, line
@@ -229,10 +238,12 @@ double Node::number(const Range& range) const {
 }
 
 std::int64_t Node::integer(std::int64_t lo, std::int64_t hi) const {
+  constexpr auto kMin = std::numeric_limits<std::int64_t>::min();
+  constexpr auto kMax = std::numeric_limits<std::int64_t>::max();
   const std::string what =
-      hi == std::numeric_limits<std::int64_t>::max()
-          ? "an integer >= " + std::to_string(lo)
-          : "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+      lo == kMin && hi == kMax ? "an integer"
+      : hi == kMax             ? "an integer >= " + std::to_string(lo)
+                   : "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   const std::string text = plain_number_text();
   std::string_view s = text;
   if (!is_integer_text(s)) {
@@ -287,7 +298,8 @@ std::string Node::one_of(std::initializer_list<std::string_view> allowed) const 
   for (auto a : allowed) {
     if (a == s) return s;
   }
-  expected(allowed.size() == 1 ? std::string(*allowed.begin()) : "one of " + join(allowed));
+  expected(allowed.size() == 1 ? std::string(*allowed.begin())
+                               : "one of " + join(std::vector<std::string_view>(allowed)));
 }
 
 Node parse_document(const std::string& text, const std::string* file) {
@@ -307,6 +319,18 @@ Node parse_document(const std::string& text, const std::string* file) {
   return Node(docs[0], "", file);
 }
 
+std::string parse_name(const Node& n) {
+  constexpr std::size_t kMaxNameLength = 64;
+  const std::string s = n.string();
+  const bool ok =
+      !s.empty() && s.size() <= kMaxNameLength && std::all_of(s.begin(), s.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '_' || c == '-';
+      });
+  if (!ok) n.expected("a name of 1 to 64 letters, digits, '_' or '-'");
+  return s;
+}
+
 std::string read_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw LoadError(path + ": cannot open");
@@ -318,4 +342,4 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
-}  // namespace carril::sim::strict
+}  // namespace carril::loader::strict

@@ -1,9 +1,12 @@
 #pragma once
-// Strict reading of yaml-cpp nodes for the scenario and robot preset loaders: every accessor
-// checks type and range and, on the first problem, throws LoadError carrying one message
+// Strict reading of yaml-cpp nodes for every carril file (robot descriptions, missions, tuning,
+// scenarios): every accessor checks type and range and, on the first problem, throws LoadError
+// carrying one message
 //   "<file>:<line>: <key.path[i]>: expected <what>, got <what>".
 // yaml-cpp's own conversions (as<T>) are avoided: they accept "1.5" as an int prefix, yes/on as
 // booleans and quoted numbers, which a strict format must reject.
+// Internal to the loaders (it throws, and yaml-cpp needs exceptions): the public loader functions
+// catch everything with guarded() and return ok + one message.
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
@@ -15,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-namespace carril::sim::strict {
+namespace carril::loader::strict {
 
 class LoadError : public std::runtime_error {
  public:
@@ -53,6 +56,7 @@ class Node {
 
   const YAML::Node& yaml() const { return node_; }
   const std::string& path() const { return path_; }
+  const std::string& file() const { return *file_; }
   int line() const;  // 1-based; 0 when yaml-cpp has no mark
 
   // "<file>:<line>: <path>: <what>" (path "(top level)" for the document itself).
@@ -69,6 +73,7 @@ class Node {
 
   // Maps: checks the node is a map whose keys are unique scalars from `allowed`.
   void expect_map(std::initializer_list<std::string_view> allowed) const;
+  void expect_map(const std::vector<std::string>& allowed) const;
   std::optional<Node> get(std::string_view key) const;
   Node at(std::string_view key) const;  // required key
   // This node under the path of `key` (for messages about a key that is absent).
@@ -90,6 +95,7 @@ class Node {
   std::string one_of(std::initializer_list<std::string_view> allowed) const;
 
  private:
+  void expect_map(const std::vector<std::string_view>& allowed) const;
   Node child(const YAML::Node& n, std::string_view key) const;
   std::string plain_number_text() const;  // checks "plain scalar", returns its text
   // An explicit tag (!!str, !!int, !foo, ...): every one is rejected, so a value means what it
@@ -109,4 +115,26 @@ Node parse_document(const std::string& text, const std::string* file);
 // Reads a whole file; throws LoadError "<path>: cannot open" when it is not a readable file.
 std::string read_file(const std::string& path);
 
-}  // namespace carril::sim::strict
+// A name (robot, scenario): 1 to 64 letters, digits, '_' or '-' (it may become a directory name).
+std::string parse_name(const Node& n);
+
+// Runs `body`, turning anything it throws (LoadError, yaml-cpp's, bad_alloc) into `error`, so
+// the callers of a loader only ever see ok/error. `path` prefixes messages that lack a location.
+template <typename F>
+bool guarded(const std::string& path, std::string& error, F&& body) {
+  try {
+    body();
+    return true;
+  } catch (const LoadError& e) {
+    error = e.what();
+  } catch (const YAML::Exception& e) {
+    error = path + ": " + e.what();
+  } catch (const std::exception& e) {
+    error = path + ": " + e.what();
+  } catch (...) {
+    error = path + ": unknown error";
+  }
+  return false;
+}
+
+}  // namespace carril::loader::strict

@@ -1,0 +1,175 @@
+#include "loader/FirmwareConfigBuilder.hpp"
+
+#include <numbers>
+#include <string_view>
+
+#include "loader/ColorThreshold.hpp"
+
+namespace carril::loader {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// Where a firmware field that comes from the robot or the mission was written: the name
+// FirmwareConfig::validate() gives it, and its key in the robot file or the mission.
+struct Source {
+  const char* field;
+  const char* key;
+  bool mission;  // in the mission rather than the robot file
+};
+
+const Source kSources[] = {
+    {"robot.control_rate_hz", "control_rate_hz", false},
+    {"robot.footprint_length_m", "body.length_m", false},
+    {"robot.footprint_width_m", "body.width_m", false},
+    {"drive.wheel_radius_m", "wheels.radius_m", false},
+    {"drive.wheelbase_m", "wheels.wheelbase_m", false},
+    {"drive.track_m", "wheels.track_m", false},
+    {"limits.max_speed_mps", "limits.max_speed_mps", false},
+    {"limits.max_yaw_rate_radps", "limits.max_yaw_rate_radps", false},
+    {"limits.max_accel_mps2", "limits.max_accel_mps2", false},
+    {"limits.max_wheel_speed_radps", "limits.max_wheel_speed_radps", false},
+    {"camera.x_m", "camera.x_m", false},
+    {"camera.y_m", "camera.y_m", false},
+    {"camera.z_m", "camera.z_m", false},
+    {"camera.tilt_rad", "camera.tilt_deg", false},
+    {"camera.hfov_rad", "camera.hfov_deg", false},
+    {"camera.width", "camera.width", false},
+    {"camera.height", "camera.height", false},
+    {"camera.rate_hz", "camera.rate_hz", false},
+    {"robot.camera.rate_hz", "camera.rate_hz", false},
+    {"lidar.x_m", "lidar.x_m", false},
+    {"lidar.y_m", "lidar.y_m", false},
+    {"lidar.yaw_rad", "lidar.yaw_deg", false},
+    {"lidar.rate_hz", "lidar.rate_hz", false},
+    {"robot.lidar.rate_hz", "lidar.rate_hz", false},
+    {"detector.line", "line_color", true},
+    {"detector.end", "end_color", true},
+    {"strategy.speed_mps", "speed_mps", true},
+    {"strategy.pid_straight", "speed_mps", true},
+    {"strategy.pid_curve", "speed_mps", true},
+};
+
+std::string file_or(const std::string& path, const char* what) {
+  return path.empty() ? std::string(what) : path;
+}
+
+// A rejection of the robot-and-mission stage, traced to the robot file or the mission.
+std::string explain_base(const RobotSpec& robot, const MissionSpec& mission,
+                         const std::string& message) {
+  const std::string field = message.substr(0, message.find(": "));
+  for (const Source& s : kSources) {
+    if (field != s.field) continue;
+    const std::string file = s.mission ? file_or(mission.source_path, "the mission")
+                                       : file_or(robot.source_path, "the robot description");
+    return file + ": " + s.key + ": rejected by the firmware (" + message + ")";
+  }
+  return file_or(robot.source_path, "the robot description") + " with " +
+         file_or(mission.source_path, "the mission") + ": rejected by the firmware (" + message +
+         ")";
+}
+
+BuildResult rejected(std::string error, const fw::Status& st) {
+  BuildResult r;
+  r.error = std::move(error);
+  r.firmware_error = st.message();
+  return r;
+}
+
+}  // namespace
+
+fw::DriveGeometry drive_geometry(const RobotSpec& robot) {
+  fw::DriveGeometry g;
+  g.type = robot.drive == DriveType::Mecanum ? fw::DriveType::Mecanum : fw::DriveType::Differential;
+  g.wheel_radius_m = robot.wheel_radius_m;
+  g.wheelbase_m = robot.wheelbase_m;
+  g.track_m = robot.track_m;
+  return g;
+}
+
+fw::CameraMount camera_mount(const CameraSpec& s) {
+  fw::CameraMount m;
+  m.x_m = s.x_m;
+  m.y_m = s.y_m;
+  m.z_m = s.z_m;
+  m.tilt_rad = s.tilt_deg * kDeg;
+  m.hfov_rad = s.hfov_deg * kDeg;
+  m.width = s.width;
+  m.height = s.height;
+  return m;
+}
+
+BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission,
+                                  const Tuning* tuning) {
+  fw::FirmwareConfig c;
+  c.rate_hz = r.control_rate_hz;
+  c.drive = drive_geometry(r);
+  c.footprint_length_m = r.length_m;
+  c.footprint_width_m = r.width_m;
+  c.limits.max_speed_mps = r.limits.max_speed_mps;
+  c.limits.max_yaw_rate_radps = r.limits.max_yaw_rate_radps;
+  c.limits.max_accel_mps2 = r.limits.max_accel_mps2;
+  c.limits.max_wheel_speed_radps = r.limits.max_wheel_speed_radps;
+  c.camera.camera = camera_mount(r.camera);
+  c.camera.rate_hz = r.camera.rate_hz;
+  c.lidar.present = r.lidar.present;
+  c.lidar.x_m = r.lidar.x_m;
+  c.lidar.y_m = r.lidar.y_m;
+  c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
+  c.lidar.rate_hz = r.lidar.rate_hz;
+  c.watch.imu_present = r.imu.present;
+  c.camera.detector.line = detector_threshold(mission.line_color_name, mission.line_color);
+  c.camera.detector.end = detector_threshold(mission.end_color_name, mission.end_color);
+  fw::StrategyConfig& st = c.follow_line.strategy;
+  if (mission.strategy == "line_priority") {
+    st.strategy = fw::Strategy::LinePriority;
+  } else if (mission.strategy == "pid") {
+    st.strategy = fw::Strategy::Pid;
+  } else if (mission.strategy == "marks") {
+    st.strategy = fw::Strategy::Marks;
+  } else {
+    BuildResult bad;
+    bad.error = file_or(mission.source_path, "the mission") +
+                ": strategy: expected line_priority, marks or pid, got \"" + mission.strategy +
+                "\"";
+    return bad;
+  }
+  st.speed_mps = mission.speed_mps;
+  // pid has a speed for straights and one for curves: the mission's speed and 80% of it.
+  st.pid_straight.speed_mps = mission.speed_mps;
+  st.pid_curve.speed_mps = 0.8 * mission.speed_mps;
+  fw::apply_sensor_rates(c);
+  if (const fw::Status s = c.validate(); !s) {
+    return rejected(explain_base(r, mission, s.message()), s);
+  }
+
+  // Settings on top, mission first; a rejection names the setting that set the field.
+  struct Stage {
+    const std::vector<Setting>* settings;
+    std::string file;
+  };
+  const Stage stages[] = {
+      {&mission.settings, file_or(mission.source_path, "the mission")},
+      {tuning != nullptr ? &tuning->settings : nullptr,
+       tuning != nullptr ? file_or(tuning->source_path, "the tuning") : ""},
+  };
+  for (const Stage& stage : stages) {
+    if (stage.settings == nullptr || stage.settings->empty()) continue;
+    std::string error;
+    if (!apply_settings(*stage.settings, c, error)) return rejected(error, fw::Status::ok());
+    if (const fw::Status s = c.validate(); !s) {
+      std::string why;
+      if (!explain_with_settings(*stage.settings, s.message(), why)) {
+        why = stage.file + ": rejected by the firmware (" + s.message() + ")";
+      }
+      return rejected(why, s);
+    }
+  }
+  BuildResult ok;
+  ok.ok = true;
+  ok.config = c;
+  return ok;
+}
+
+}  // namespace carril::loader

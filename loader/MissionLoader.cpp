@@ -1,0 +1,158 @@
+#include "loader/MissionLoader.hpp"
+
+#include <cstdint>
+#include <optional>
+
+#include "loader/ColorThreshold.hpp"
+#include "loader/MissionSections.hpp"
+#include "loader/SettingsYaml.hpp"
+
+namespace carril::loader {
+
+using strict::Node;
+using strict::Range;
+
+namespace {
+
+// The fastest the wheels can carry the body: wheel radius x wheel speed limit.
+double wheel_speed_limit_mps(const RobotSpec& r) {
+  return r.wheel_radius_m * r.limits.max_wheel_speed_radps;
+}
+
+// The detector must tell the tape from the end mark (a scenario checks this with its floor, in
+// ScenarioChecks; a mission file has no floor).
+void check_end_color(const Node& root, const MissionSpec& m) {
+  const bool line_as_end =
+      detector_sees(detector_threshold(m.end_color_name, m.end_color), m.line_color);
+  const bool end_as_line =
+      detector_sees(detector_threshold(m.line_color_name, m.line_color), m.end_color);
+  if (!line_as_end && !end_as_line) return;
+  const auto n = root.get("end_color");
+  const Node where = n ? *n : root.child_path("end_color");
+  where.expected("an end colour the detector tells from line_color " + m.line_color_name + " (" +
+                     (line_as_end ? "the tape falls in the end window"
+                                  : "the end colour falls in the tape window") +
+                     ")",
+                 m.end_color_name);
+}
+
+}  // namespace
+
+Rgb parse_color(const Node& n, std::string* name_out) {
+  const std::string what = "a colour name (white, black, red, green, blue, yellow) or [r, g, b]";
+  if (n.yaml().IsSequence()) {
+    const auto c = n.items();
+    if (c.size() != 3) n.expected(what, "a list of " + std::to_string(c.size()));
+    const Rgb rgb{static_cast<std::uint8_t>(c[0].integer(0, 255)),
+                  static_cast<std::uint8_t>(c[1].integer(0, 255)),
+                  static_cast<std::uint8_t>(c[2].integer(0, 255))};
+    if (name_out) {
+      *name_out = "[" + std::to_string(rgb.r) + ", " + std::to_string(rgb.g) + ", " +
+                  std::to_string(rgb.b) + "]";
+    }
+    return rgb;
+  }
+  Rgb rgb;
+  if (!n.yaml().IsScalar() || !color_from_name(n.string(), rgb)) n.expected(what);
+  if (name_out) *name_out = n.string();
+  return rgb;
+}
+
+void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                   MissionSpec& mission) {
+  if (schema.file) {
+    m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps", "tape_preview_m",
+                  "behavior", "strategy_gains"});
+  } else {
+    m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps"});
+  }
+  const Node type = m.at("type");
+  if (type.yaml().IsScalar() && (type.string() == "goto" || type.string() == "coverage")) {
+    type.expected("follow_line (" + type.string() + " is not supported yet)");
+  }
+  mission.type = type.one_of({"follow_line"});
+  const Node strategy = m.at("strategy");
+  mission.strategy = strategy.one_of({"line_priority", "marks", "pid"});
+  if (mission.strategy == "line_priority" && robot.drive != DriveType::Mecanum) {
+    strategy.expected("marks or pid (line_priority needs a mecanum drive; preset " + robot.preset +
+                      " is differential)");
+  }
+  mission.line_color = parse_color(m.at("line_color"), &mission.line_color_name);
+  if (auto n = m.get("end_color")) {
+    mission.end_color = parse_color(*n, &mission.end_color_name);
+  } else {
+    mission.end_color = Rgb{255, 255, 0};
+    mission.end_color_name = "yellow";
+  }
+  const double max_speed = robot.limits.max_speed_mps;
+  const std::string speed_range =
+      "a number in (0, " + schema.speed_limit + " = " + strict::format_number(max_speed) + "]";
+  std::optional<Node> speed_node = m.get("speed_mps");
+  if (speed_node) {
+    mission.speed_mps = speed_node->number(Range::closed(0.01, 5.0));
+    if (mission.speed_mps > max_speed) speed_node->expected(speed_range, speed_node->raw());
+  } else {
+    // The preset's cruise speed is only a default: an override lowering the limit below it
+    // needs an explicit speed rather than a silent clamp.
+    if (robot.cruise_speed_mps > max_speed) {
+      m.child_path("speed_mps")
+          .expected(speed_range + " (the preset's cruise_speed_mps " +
+                        strict::format_number(robot.cruise_speed_mps) + " is above the limit)",
+                    "nothing");
+    }
+    mission.speed_mps = robot.cruise_speed_mps;
+  }
+  // The wheels must be able to reach the mission speed.
+  const double wheel_max = wheel_speed_limit_mps(robot);
+  if (mission.speed_mps > wheel_max) {
+    const Node where = speed_node ? *speed_node : m.child_path("speed_mps");
+    where.expected("a speed the wheels can reach, at most wheels.radius_m " +
+                       strict::format_number(robot.wheel_radius_m) +
+                       " x limits.max_wheel_speed_radps " +
+                       strict::format_number(robot.limits.max_wheel_speed_radps) + " = " +
+                       strict::format_number(wheel_max) + " m/s",
+                   speed_node ? speed_node->raw()
+                              : strict::format_number(mission.speed_mps) + " (the preset's)");
+  }
+  if (schema.file) {
+    for (const char* key : {"tape_preview_m", "behavior", "strategy_gains"}) {
+      if (auto n = m.get(key)) parse_settings(*n, SettingFile::Mission, mission.settings);
+    }
+  }
+}
+
+bool load_mission(const std::string& path, const RobotSpec& robot, MissionSpec& out,
+                  std::string& error) {
+  MissionSpec mission;
+  const bool ok = strict::guarded(path, error, [&] {
+    const Node root = strict::parse_document(strict::read_file(path), &path);
+    MissionSchema schema;
+    schema.file = true;
+    schema.speed_limit = "the robot's limits.max_speed_mps";
+    parse_mission(root, robot, schema, mission);
+    check_end_color(root, mission);
+    mission.source_path = path;
+  });
+  if (ok) out = mission;
+  return ok;
+}
+
+bool color_from_name(const std::string& name, Rgb& out) {
+  struct Named {
+    const char* name;
+    Rgb rgb;
+  };
+  static constexpr Named kColors[] = {
+      {"white", {255, 255, 255}}, {"black", {0, 0, 0}},  {"red", {255, 0, 0}},
+      {"green", {0, 255, 0}},     {"blue", {0, 0, 255}}, {"yellow", {255, 255, 0}},
+  };
+  for (const auto& c : kColors) {
+    if (name == c.name) {
+      out = c.rgb;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace carril::loader

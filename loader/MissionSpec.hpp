@@ -1,0 +1,30 @@
+#pragma once
+// A mission as a mission file (config/missions/*.yaml) or a scenario's `mission:` section writes
+// it: what to follow, in which colours, how, how fast, and the component tuning that goes with it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "loader/Settings.hpp"
+
+namespace carril::loader {
+
+struct Rgb {
+  std::uint8_t r = 0, g = 0, b = 0;
+  bool operator==(const Rgb&) const = default;
+};
+
+struct MissionSpec {
+  std::string type = "follow_line";  // follow_line
+  std::string strategy = "pid";      // line_priority | marks | pid
+  Rgb line_color{255, 255, 255};
+  std::string line_color_name = "white";  // name as written, or "[r, g, b]"
+  Rgb end_color{255, 255, 0};
+  std::string end_color_name = "yellow";
+  double speed_mps =
+      0.5;  // cruise speed; the robot's cruise_speed_mps when the file omits it [m/s]
+  std::vector<Setting> settings;  // a mission file's behavior:, strategy_gains:, tape_preview_m
+  std::string source_path;        // the mission file ("" for a scenario's section)
+};
+
+}  // namespace carril::loader

@@ -1,0 +1,178 @@
+#include "loader/RobotLoader.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "loader/RobotSections.hpp"
+
+namespace carril::loader {
+
+namespace {
+
+using strict::Node;
+using strict::Range;
+
+// Physical bounds: every accepted value gives a finite, non-degenerate simulation and a valid
+// firmware configuration. docs/configuration.md lists them all.
+const Range kYawDeg = Range::closed(-360.0, 360.0);
+const Range kMount = Range::closed(-5.0, 5.0);      // sensor mount offsets [m]
+const Range kWheelSize = Range::closed(0.05, 5.0);  // wheelbase, track [m]
+
+// Derived camera rules: the top image row looks at least this far below the horizon, and the
+// optical axis meets the floor within this distance.
+constexpr double kMinTopRowDepressionDeg = 1.0;
+constexpr double kMaxCentreRayDistanceM = 20.0;
+
+double deg2rad(double deg) {
+  return deg * std::numbers::pi / 180.0;
+}
+
+}  // namespace
+
+void parse_camera(const Node& m, CameraSpec& c, bool all) {
+  m.expect_map(
+      {"x_m", "y_m", "z_m", "tilt_deg", "hfov_deg", "width", "height", "rate_hz", "noise_std"});
+  if (auto n = m.get("x_m", all)) c.x_m = n->number(kMount);
+  if (auto n = m.get("y_m", all)) c.y_m = n->number(kMount);
+  if (auto n = m.get("z_m", all)) c.z_m = n->number(Range::closed(0.05, 5.0));
+  if (auto n = m.get("tilt_deg", all)) c.tilt_deg = n->number(Range::closed(5.0, 90.0));
+  if (auto n = m.get("hfov_deg", all)) c.hfov_deg = n->number(Range::closed(20.0, 150.0));
+  // The firmware's image buffer is fixed at hal::kMaxImageWidth x kMaxImageHeight.
+  if (auto n = m.get("width", all)) c.width = static_cast<int>(n->integer(32, 1280));
+  if (auto n = m.get("height", all)) c.height = static_cast<int>(n->integer(32, 960));
+  if (auto n = m.get("rate_hz", all)) c.rate_hz = n->number(Range::closed(1.0, 240.0));
+  if (auto n = m.get("noise_std", all)) c.noise_std = n->number(Range::closed(0.0, 100.0));
+}
+
+// The camera must see the floor: the top image row looks below the horizon (else part of the
+// image has no floor and the homography's inverse degenerates) and the image centre meets the
+// floor at a sane distance. `where` is the camera block that set the values.
+void check_camera_view(const Node& where, const CameraSpec& c) {
+  const double half_vfov_deg =
+      std::atan((c.height / 2.0) / ((c.width / 2.0) / std::tan(deg2rad(c.hfov_deg / 2.0)))) *
+      180.0 / std::numbers::pi;
+  const double top_row_deg = c.tilt_deg - half_vfov_deg;
+  if (top_row_deg < kMinTopRowDepressionDeg) {
+    where.child_path("tilt_deg")
+        .expected("a tilt at least " + strict::format_number(kMinTopRowDepressionDeg) +
+                      " deg more than half the vertical field of view (" +
+                      strict::format_number(half_vfov_deg) + " deg from hfov_deg " +
+                      strict::format_number(c.hfov_deg) + ", " + std::to_string(c.width) + "x" +
+                      std::to_string(c.height) + "), so the whole image sees the floor",
+                  strict::format_number(c.tilt_deg));
+  }
+  const double centre_m = c.z_m / std::tan(deg2rad(c.tilt_deg));
+  if (centre_m > kMaxCentreRayDistanceM) {
+    where.child_path("tilt_deg")
+        .expected("a tilt whose image centre meets the floor within " +
+                      strict::format_number(kMaxCentreRayDistanceM) + " m (z_m " +
+                      strict::format_number(c.z_m) +
+                      " / tan(tilt_deg) = " + strict::format_number(centre_m) + " m)",
+                  strict::format_number(c.tilt_deg));
+  }
+}
+
+void parse_lidar(const Node& m, LidarSpec& l, bool all) {
+  if (all) {
+    m.expect_map({"present", "x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m",
+                  "range_max_m", "rate_hz", "noise_std_m"});
+    if (auto n = m.get("present")) l.present = n->boolean();
+    // A lidar that is not fitted needs no mount: its other keys become optional.
+    all = l.present;
+  } else {
+    m.expect_map({"x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m", "range_max_m",
+                  "rate_hz", "noise_std_m"});
+  }
+  if (auto n = m.get("x_m", all)) l.x_m = n->number(kMount);
+  if (auto n = m.get("y_m", all)) l.y_m = n->number(kMount);
+  if (auto n = m.get("yaw_deg", all)) l.yaw_deg = n->number(kYawDeg);
+  if (auto n = m.get("fov_deg", all)) l.fov_deg = n->number(Range::closed(1.0, 360.0));
+  // hal::kMaxScanBeams.
+  if (auto n = m.get("beams", all)) l.beams = static_cast<int>(n->integer(2, 2048));
+  const auto max_n = m.get("range_max_m", all);
+  const auto min_n = m.get("range_min_m", all);
+  if (max_n) l.range_max_m = max_n->number(Range::closed(0.5, 100.0));
+  if (min_n) {
+    l.range_min_m = min_n->number(Range::closed(0.0, 10.0));
+    if (l.range_min_m >= l.range_max_m) {
+      min_n->expected("a number in [0, range_max_m = " + strict::format_number(l.range_max_m) + ")",
+                      min_n->raw());
+    }
+  } else if (max_n && l.range_max_m <= l.range_min_m) {
+    max_n->expected("a number in (range_min_m = " + strict::format_number(l.range_min_m) + ", 100]",
+                    max_n->raw());
+  }
+  if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
+  if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));
+}
+
+void parse_limits(const Node& m, LimitsSpec& l, bool all) {
+  m.expect_map({"max_speed_mps", "max_yaw_rate_radps", "max_accel_mps2", "max_wheel_speed_radps",
+                "max_wheel_accel_radps2"});
+  auto get = [&](const char* key, double lo, double hi, double& out) {
+    if (auto n = m.get(key, all)) out = n->number(Range::closed(lo, hi));
+  };
+  get("max_speed_mps", 0.05, 5.0, l.max_speed_mps);
+  get("max_yaw_rate_radps", 0.05, 10.0, l.max_yaw_rate_radps);
+  get("max_accel_mps2", 0.05, 20.0, l.max_accel_mps2);
+  get("max_wheel_speed_radps", 0.5, 500.0, l.max_wheel_speed_radps);
+  get("max_wheel_accel_radps2", 0.5, 5000.0, l.max_wheel_accel_radps2);
+}
+
+namespace {
+
+RobotSpec parse_preset(const Node& root) {
+  root.expect_map({"name", "drive", "body", "wheels", "cruise_speed_mps", "control_rate_hz",
+                   "camera", "lidar", "imu", "limits"});
+  RobotSpec r;
+  r.preset = strict::parse_name(root.at("name"));
+  r.drive = root.at("drive").one_of({"mecanum", "differential"}) == "mecanum"
+                ? DriveType::Mecanum
+                : DriveType::Differential;
+  const Node body = root.at("body");
+  body.expect_map({"length_m", "width_m", "mass_kg"});
+  r.length_m = body.at("length_m").number(Range::closed(0.1, 5.0));
+  r.width_m = body.at("width_m").number(Range::closed(0.1, 5.0));
+  r.mass_kg = body.at("mass_kg").number(Range::closed(1.0, 5000.0));
+  const Node wheels = root.at("wheels");
+  wheels.expect_map({"radius_m", "wheelbase_m", "track_m"});
+  r.wheel_radius_m = wheels.at("radius_m").number(Range::closed(0.01, 1.0));
+  r.wheelbase_m = wheels.at("wheelbase_m").number(kWheelSize);
+  r.track_m = wheels.at("track_m").number(kWheelSize);
+  r.control_rate_hz = root.at("control_rate_hz").number(Range::closed(10.0, 1000.0));
+  const Node camera = root.at("camera");
+  parse_camera(camera, r.camera, true);
+  check_camera_view(camera, r.camera);
+  parse_lidar(root.at("lidar"), r.lidar, true);
+  if (auto imu = root.get("imu")) {
+    imu->expect_map({"present"});
+    r.imu.present = imu->at("present").boolean();
+  }
+  parse_limits(root.at("limits"), r.limits, true);
+  const Node cruise = root.at("cruise_speed_mps");
+  r.cruise_speed_mps = cruise.number(Range::closed(0.01, 5.0));
+  if (r.cruise_speed_mps > r.limits.max_speed_mps) {
+    cruise.expected("a number in (0, limits.max_speed_mps = " +
+                        strict::format_number(r.limits.max_speed_mps) + "]",
+                    cruise.raw());
+  }
+  return r;
+}
+
+}  // namespace
+
+RobotSpec read_robot_file(const std::string& path) {
+  const std::string text = strict::read_file(path);
+  RobotSpec r = parse_preset(strict::parse_document(text, &path));
+  r.source_path = path;
+  return r;
+}
+
+bool load_robot_preset(const std::string& path, RobotSpec& out, std::string& error) {
+  RobotSpec spec;
+  if (!strict::guarded(path, error, [&] { spec = read_robot_file(path); })) return false;
+  out = spec;
+  return true;
+}
+
+}  // namespace carril::loader

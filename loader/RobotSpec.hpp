@@ -1,0 +1,71 @@
+#pragma once
+// A robot's description as config/robots/<name>.yaml writes it: drive and geometry, sensor mounts
+// and rates, limits, which sensors are fitted. Units as in the file: metres, seconds, and degrees
+// for mount angles (the firmware configuration builder converts them to radians).
+// Robot frame: x forward, y left, z up, origin at the body centre on the floor.
+// The defaults below only fill what a file leaves out where the format allows it (a lidar that is
+// not fitted); every value of a real robot comes from its file.
+#include <string>
+
+namespace carril::loader {
+
+struct Pose2 {
+  double x = 0.0, y = 0.0, yaw_rad = 0.0;
+};
+
+enum class DriveType { Differential, Mecanum };
+
+// Downward-tilted pinhole camera, mounted looking forward along the robot's x axis.
+struct CameraSpec {
+  double x_m = 0.0, y_m = 0.0, z_m = 0.5;  // optical centre in the robot frame [m]
+  double tilt_deg = 45.0;                  // optical axis below horizontal [deg]
+  double hfov_deg = 60.0;                  // horizontal field of view [deg]
+  int width = 640, height = 480;           // [px]
+  double rate_hz = 30.0;                   // frame rate [Hz]
+  double noise_std = 0.0;                  // Gaussian pixel noise, per channel [0..255 units]
+};
+
+struct LidarSpec {
+  bool present = true;          // a lidar is fitted (else the firmware does without one)
+  double x_m = 0.0, y_m = 0.0;  // mount position in the robot frame [m]
+  double yaw_deg = 0.0;         // mount heading relative to robot x [deg]
+  double fov_deg = 270.0;       // field of view, centred on the mount heading [deg]
+  int beams = 541;
+  double range_min_m = 0.05, range_max_m = 20.0;  // [m]
+  double rate_hz = 20.0;                          // [Hz]
+  double noise_std_m = 0.0;                       // Gaussian range noise [m]
+};
+
+struct ImuSpec {
+  bool present = true;  // an IMU is fitted: the firmware checks its samples
+};
+
+struct LimitsSpec {
+  double max_speed_mps = 1.0;            // body linear speed [m/s]
+  double max_yaw_rate_radps = 1.5;       // body yaw rate [rad/s]
+  double max_accel_mps2 = 1.0;           // body linear acceleration [m/s^2]
+  double max_wheel_speed_radps = 10.0;   // each wheel [rad/s]
+  double max_wheel_accel_radps2 = 20.0;  // each wheel [rad/s^2]
+};
+
+// A robot description (config/robots/<name>.yaml); in the simulator, after the scenario's
+// overrides are applied.
+struct RobotSpec {
+  std::string preset;       // the file's `name`: campero | pioneer3at | ...
+  std::string source_path;  // the file it was read from ("" when not read from a file)
+  DriveType drive = DriveType::Differential;
+  double length_m = 0.5, width_m = 0.5;  // body footprint [m]
+  double mass_kg = 30.0;
+  double wheel_radius_m = 0.1;     // [m]
+  double wheelbase_m = 0.4;        // front-rear axle distance (mecanum) [m]
+  double track_m = 0.4;            // left-right wheel distance [m]
+  double cruise_speed_mps = 0.5;   // default mission speed [m/s]
+  double control_rate_hz = 100.0;  // firmware tick rate [Hz]
+  CameraSpec camera;
+  LidarSpec lidar;
+  ImuSpec imu;
+  LimitsSpec limits;
+  Pose2 start;  // set by a scenario; the robot target leaves it at the origin
+};
+
+}  // namespace carril::loader

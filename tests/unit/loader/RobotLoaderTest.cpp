@@ -1,0 +1,86 @@
+// Robot description files: the shipped ones load; which sensors are fitted; strict errors.
+#include "loader/RobotLoader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "tests/unit/loader/LoaderTestUtil.hpp"
+
+namespace carril::loader {
+namespace {
+
+using test::edit;
+using test::read_text;
+using test::source_path;
+using test::write_file;
+
+const std::string kCampero = read_text(source_path("config/robots/campero.yaml"));
+// The line of a key appended to kCampero.
+const std::string kAppendedLine =
+    std::to_string(std::count(kCampero.begin(), kCampero.end(), '\n') + 1);
+
+struct Loaded {
+  bool ok = false;
+  RobotSpec robot;
+  std::string error;
+  std::string path;
+};
+
+Loaded load(const std::string& text) {
+  Loaded l;
+  l.path = write_file("robot.yaml", text);
+  l.ok = load_robot_preset(l.path, l.robot, l.error);
+  return l;
+}
+
+TEST(RobotLoader, ShippedRobotsLoadWithEverySensorFitted) {
+  for (const char* name : {"campero", "pioneer3at"}) {
+    RobotSpec r;
+    std::string error;
+    const std::string path = source_path(std::string("config/robots/") + name + ".yaml");
+    ASSERT_TRUE(load_robot_preset(path, r, error)) << error;
+    EXPECT_EQ(r.preset, name);
+    EXPECT_EQ(r.source_path, path);
+    EXPECT_TRUE(r.lidar.present);
+    EXPECT_TRUE(r.imu.present);
+  }
+}
+
+TEST(RobotLoader, ImuAndLidarCanBeNotFitted) {
+  const Loaded imu = load(kCampero + "imu: {present: false}\n");
+  ASSERT_TRUE(imu.ok) << imu.error;
+  EXPECT_FALSE(imu.robot.imu.present);
+  // A lidar that is not fitted needs no mount.
+  const std::string lidar_line = kCampero.substr(kCampero.find("lidar: {"));
+  const std::string no_lidar =
+      edit(kCampero, lidar_line.substr(0, lidar_line.find('\n')), "lidar: {present: false}");
+  const Loaded lidar = load(no_lidar);
+  ASSERT_TRUE(lidar.ok) << lidar.error;
+  EXPECT_FALSE(lidar.robot.lidar.present);
+  // A fitted lidar needs all of it.
+  const Loaded partial = load(edit(no_lidar, "present: false", "present: true"));
+  ASSERT_FALSE(partial.ok);
+  EXPECT_NE(partial.error.find("lidar.x_m: missing required key"), std::string::npos)
+      << partial.error;
+}
+
+TEST(RobotLoader, StrictErrorsNameFileLineAndKey) {
+  const Loaded type = load(kCampero + "imu: {present: yes}\n");
+  EXPECT_EQ(type.error,
+            type.path + ":" + kAppendedLine + ": imu.present: expected true or false, got \"yes\"");
+  const Loaded key = load(kCampero + "imu: {present: true, rate_hz: 100}\n");
+  EXPECT_EQ(key.error,
+            key.path + ":" + kAppendedLine + ": imu.rate_hz: unknown key (allowed: present)");
+  const Loaded range = load(edit(kCampero, "width: 640", "width: 6400"));
+  EXPECT_NE(range.error.find(range.path + ":10: camera.width: expected an integer in [32, 1280], "
+                                          "got 6400"),
+            std::string::npos)
+      << range.error;
+  const Loaded missing = load(edit(kCampero, "control_rate_hz: 100\n", ""));
+  EXPECT_NE(missing.error.find("control_rate_hz: missing required key"), std::string::npos)
+      << missing.error;
+}
+
+}  // namespace
+}  // namespace carril::loader
