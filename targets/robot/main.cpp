@@ -6,9 +6,9 @@
 // Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
 // 1 a signal stopped it before the requested ticks, 2 bad usage or configuration, 3 the drives
 // did not come up.
-#include <Eigen/Core>
 #include <pthread.h>
 #include <sched.h>
+#include <Eigen/Core>
 
 #include <atomic>
 #include <charconv>
@@ -202,6 +202,15 @@ void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
                 static_cast<unsigned long long>(task.overruns), task.p99_us, task.max_us);
   }
   std::printf("  events dropped %llu\n", static_cast<unsigned long long>(t.events_dropped));
+  std::printf(
+      "  components: odometry %llu updates, %.2f m; camera frames %llu, scans %llu; motion %llu "
+      "commands, %llu with drives not ready, %llu quick stops\n",
+      static_cast<unsigned long long>(all.odometry.updates), all.odometry.distance_m,
+      static_cast<unsigned long long>(all.watch.camera_frames),
+      static_cast<unsigned long long>(all.watch.scans),
+      static_cast<unsigned long long>(all.output.commands),
+      static_cast<unsigned long long>(all.output.drives_not_ready),
+      static_cast<unsigned long long>(all.output.quick_stops));
   std::printf("  mission %s: %s, state %s, phase %s\n", all.mission,
               carril::fw::mission_status_name(t.status), t.state, t.phase);
   std::printf("  state %s, fault %s\n", t.state, carril::fw::fault_name(t.fault));
