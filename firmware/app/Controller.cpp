@@ -29,6 +29,12 @@ Status Controller::add_task(const TaskSpec& spec) {
   return tasks_.add(spec);
 }
 
+Status Controller::declare(std::span<const TaskSpec> table) {
+  if (!init_) return init_;
+  if (Status s = tasks_.add_all(table); !s) return s;
+  return check();
+}
+
 Status Controller::check() const {
   if (!init_) return init_;
   if (tasks_.size() == 0) return Status::error("controller tasks: no task declared");

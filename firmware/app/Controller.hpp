@@ -7,6 +7,7 @@
 // time tasks).
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include "firmware/core/Event.hpp"
 #include "firmware/core/EventLog.hpp"
@@ -50,6 +51,8 @@ class Controller final : public FaultSink {
   // Init only: the next task of the target's table, in run order. An error names the task and
   // the field; nothing is registered then.
   Status add_task(const TaskSpec& spec);
+  // Init only: the whole table, in run order, then check(); the first error is returned.
+  Status declare(std::span<const TaskSpec> table);
   // Init only: the table is complete. An error when it is empty or the tick rate was bad.
   Status check() const;
 

@@ -1,5 +1,6 @@
 #include "firmware/app/LineFirmware.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace carril::fw {
@@ -19,6 +20,16 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
       cfg_(cfg) {}
+
+TaskRates task_rates(const FirmwareConfig& c) {
+  TaskRates r;
+  r.control_hz = c.rate_hz;
+  r.camera_hz = std::min(c.camera.rate_hz, c.rate_hz);
+  r.lidar_hz = std::min(c.lidar.rate_hz, c.rate_hz);
+  r.scan_offset = 1 % TaskTable::divisor_for(c.rate_hz, r.lidar_hz);
+  r.telemetry_offset = TaskTable::divisor_for(c.rate_hz, r.telemetry_hz) - 1;
+  return r;
+}
 
 void LineFirmware::refresh_telemetry() {
   FirmwareTelemetry& t = telemetry_;

@@ -37,6 +37,17 @@ struct FirmwareTelemetry {
   Pose2 odom;
 };
 
+// What a target's task table derives from the configuration: sensor tasks at their sensor's rate,
+// or every tick when the sensor is faster (the newest frame or scan is taken, the ones between
+// skipped); scans one tick after frames (spreading the two heaviest tasks); telemetry at 10 Hz
+// on the last tick of its period.
+struct TaskRates {
+  double control_hz = 0.0, camera_hz = 0.0, lidar_hz = 0.0;  // [Hz]
+  double telemetry_hz = 10.0;                                // [Hz]
+  std::uint32_t scan_offset = 0, telemetry_offset = 0;       // [ticks]
+};
+TaskRates task_rates(const FirmwareConfig& c);
+
 class LineFirmware {
  public:
   // cfg must have passed validate() (asserted by the wiring file; see Status there).

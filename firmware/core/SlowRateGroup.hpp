@@ -41,6 +41,8 @@ class SlowRateGroup {
               double overrun_throttle_s = TaskTable::kDefaultThrottleS);
   // Init only, after init(). A task's rate_hz is at most the group's; registers nothing on error.
   Status add(const TaskSpec& spec) { return table_.add(spec); }
+  // Init only: every task of a table, in order; stops at (and returns) the first error.
+  Status add_all(std::span<const TaskSpec> specs) { return table_.add_all(specs); }
   // Runs one cycle: the tasks due on it, in table order; now_ns stamps overrun events [ns].
   void cycle(hal::TimeNs now_ns, const hal::Clock& clock);
 

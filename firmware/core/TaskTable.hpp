@@ -6,6 +6,7 @@
 // throttle interval, carrying how many overruns it stands for (F Prime's rate group cycle slip).
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <type_traits>
 
 #include "firmware/core/Event.hpp"
@@ -78,6 +79,13 @@ class TaskTable {
               double overrun_throttle_s = kDefaultThrottleS);
   // Init only, after init(). Registers nothing on error.
   Status add(const TaskSpec& spec);
+  // Init only: every task of a table, in order; stops at (and returns) the first error.
+  Status add_all(std::span<const TaskSpec> specs) {
+    for (const TaskSpec& s : specs) {
+      if (Status st = add(s); !st) return st;
+    }
+    return Status::ok();
+  }
   // Runs the tasks due on this tick, in table order; now_ns stamps overrun events [ns].
   void run(std::uint64_t tick, hal::TimeNs now_ns, const hal::Clock& clock);
 

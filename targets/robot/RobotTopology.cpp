@@ -1,6 +1,5 @@
 #include "targets/robot/RobotTopology.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 namespace carril::robot {
@@ -17,32 +16,22 @@ constexpr std::int64_t us(double v) {
 
 fw::Status declare_tasks(fw::LineFirmware& f) {
   using fw::TaskSpec;
-  const fw::FirmwareConfig& c = f.config();
-  // Sensor tasks run at their sensor's rate, or every tick when the sensor is faster (then the
-  // newest frame or scan is taken and the ones between are skipped).
-  const double camera_hz = std::min(c.camera.rate_hz, c.rate_hz);
-  const double lidar_hz = std::min(c.lidar.rate_hz, c.rate_hz);
-  // Scans are processed one tick after frames, which spreads the two heaviest tasks.
-  const std::uint32_t scan_offset = 1 % fw::TaskTable::divisor_for(c.rate_hz, lidar_hz);
-  // Telemetry (percentiles over every histogram) on the last tick of its period.
-  const std::uint32_t telemetry_offset = fw::TaskTable::divisor_for(c.rate_hz, 10.0) - 1;
+  const fw::TaskRates r = fw::task_rates(f.config());
   // Read top to bottom: the order tasks run in within a tick is the order data flows.
   // bind<component method>(name, rate [Hz], offset [ticks], budget [ns], component)
   const TaskSpec table[] = {
-      TaskSpec::bind<&fw::SensorWatch::run>("health", c.rate_hz, 0, us(20), &f.watch),
-      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", c.rate_hz, 0, us(20), &f.odometry),
-      TaskSpec::bind<&fw::LinePerception::run>("perception", camera_hz, 0, us(400), &f.perception),
-      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", lidar_hz, scan_offset, us(60),
+      TaskSpec::bind<&fw::SensorWatch::run>("health", r.control_hz, 0, us(20), &f.watch),
+      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", r.control_hz, 0, us(20), &f.odometry),
+      TaskSpec::bind<&fw::LinePerception::run>("perception", r.camera_hz, 0, us(400),
+                                               &f.perception),
+      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
                                                 &f.obstacle_sensing),
-      TaskSpec::bind<&fw::MissionRunner::run>("mission", c.rate_hz, 0, us(80), &f.runner),
-      TaskSpec::bind<&fw::MotionOutput::run>("motion", c.rate_hz, 0, us(20), &f.output),
-      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", 10.0, telemetry_offset,
-                                                           us(50), &f),
+      TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(80), &f.runner),
+      TaskSpec::bind<&fw::MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
+      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
+                                                           r.telemetry_offset, us(50), &f),
   };
-  for (const TaskSpec& t : table) {
-    if (fw::Status s = f.controller.add_task(t); !s) return s;
-  }
-  return f.controller.check();
+  return f.controller.declare(table);
 }
 
 fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
@@ -53,10 +42,7 @@ fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& repor
   const TaskSpec table[] = {
       TaskSpec::bind<&fw::StatusReporter::run>("status", 1.0, 0, us(2000), &reporter),
   };
-  for (const TaskSpec& t : table) {
-    if (fw::Status s = slow.add(t); !s) return s;
-  }
-  return fw::Status::ok();
+  return slow.add_all(table);
 }
 
 bool RobotTopology::start_slow_group(bool loop_is_fifo) {
