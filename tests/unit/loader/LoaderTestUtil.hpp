@@ -2,6 +2,7 @@
 // Shared helpers for the loader tests: the source tree's config files, files written to a
 // temporary directory, and a field-by-field comparison of two firmware configurations.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -25,9 +26,12 @@ inline std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-// Writes `text` to <temp dir>/carril_loader_test/<name> and returns its path.
+// Writes `text` to <temp dir>/carril_loader_test_<pid>/<name> and returns its path. One folder
+// per process: CTest runs each test in its own process, several at once (-j), and two tests that
+// write the same file name must not read each other's.
 inline std::string write_file(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::path(::testing::TempDir()) / "carril_loader_test";
+  const auto dir = std::filesystem::path(::testing::TempDir()) /
+                   ("carril_loader_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto path = (dir / name).string();
   std::ofstream(path) << text;
