@@ -172,6 +172,7 @@ const Field kFields[] = {
                   watch.camera_timeout_s),
     CARRIL_NUMBER(Tuning, "watch.scanner_timeout_s", "watch.scanner_timeout_s",
                   watch.scanner_timeout_s),
+    CARRIL_NUMBER(Tuning, "watch.imu_timeout_s", "watch.imu_timeout_s", watch.imu_timeout_s),
     // The one motion limit the robot description does not carry.
     CARRIL_NUMBER(Tuning, "limits.max_yaw_accel_radps2", "limits.max_yaw_accel_radps2",
                   limits.max_yaw_accel_radps2),

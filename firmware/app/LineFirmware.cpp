@@ -16,7 +16,7 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       mission(cfg.follow_line, cfg.footprint(), kinematics.holonomic(), cfg.lidar.present,
               bus.odometry, bus.line, bus.obstacles),
       runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), mission, bus.frame,
-             bus.odometry, bus.obstacles, bus.motion, controller),
+             bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
       cfg_(cfg) {}

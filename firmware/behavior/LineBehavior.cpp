@@ -70,13 +70,14 @@ BehaviorOutput LineBehavior::step(const BehaviorInput& in, double dt) {
 BehaviorOutput LineBehavior::start(const BehaviorInput& in) {
   BehaviorOutput out;
   if (phase_ == Phase::Wait) {
-    if (in.drives_ready && in.camera_ready && in.scanner_ready) {
+    if (in.drives_ready && in.camera_ready && in.scanner_ready && in.imu_ready) {
       set_phase(Phase::Find);
       turned_ = 0.0;
     } else if (in.t_s - since_s_ > cfg_.init_timeout_s) {
-      out.fault = !in.drives_ready   ? Fault::DriveEnableTimeout
-                  : !in.camera_ready ? Fault::CameraTimeout
-                                     : Fault::ScannerTimeout;
+      out.fault = !in.drives_ready    ? Fault::DriveEnableTimeout
+                  : !in.camera_ready  ? Fault::CameraTimeout
+                  : !in.scanner_ready ? Fault::ScannerTimeout
+                                      : Fault::ImuTimeout;
       enter(LineState::Fault, Phase::Stopped, in.t_s);
     }
     return out;

@@ -75,6 +75,7 @@ struct BehaviorInput {
   bool drives_ready = false;
   bool camera_ready = false;      // a frame has arrived
   bool scanner_ready = false;     // a scan has arrived (or no lidar is fitted)
+  bool imu_ready = true;          // a valid IMU sample has arrived (or no IMU is fitted)
   bool fresh_frame = false;       // a frame was processed this tick
   bool line_visible = false;      // the newest frame shows tape
   Vec2 line_near = Vec2::Zero();  // nearest visible tape point, robot frame [m]

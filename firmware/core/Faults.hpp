@@ -18,6 +18,8 @@ enum class Fault : std::uint8_t {
   CameraFrozen,        // camera frames keep coming, the same image while the robot moves
   ImuOutOfRange,       // IMU reads NaN, inf or what the robot cannot do (health.imu)
   ImuFrozen,           // IMU sample no longer changes (same stamp, or same values while turning)
+  ImuTimeout,          // a fitted IMU delivered no valid sample within watch.imu_timeout_s, or
+                       // none at all by the end of start-up
   Count,
 };
 
@@ -49,6 +51,8 @@ inline const char* fault_name(Fault f) {
       return "imu_out_of_range";
     case Fault::ImuFrozen:
       return "imu_frozen";
+    case Fault::ImuTimeout:
+      return "imu_timeout";
     case Fault::Count:
       break;
   }

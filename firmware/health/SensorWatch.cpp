@@ -6,6 +6,7 @@ Status SensorWatchConfig::validate() const {
   return Checks("watch")
       .range("camera_timeout_s", camera_timeout_s, 0.01, 10.0, "s")
       .range("scanner_timeout_s", scanner_timeout_s, 0.01, 10.0, "s")
+      .range("imu_timeout_s", imu_timeout_s, 0.01, 10.0, "s")
       .nested(imu.validate())
       .result();
 }
@@ -42,6 +43,14 @@ void SensorWatch::run() {
     faults_.raise(Fault::ScannerTimeout);
   }
   if (cfg_.imu_present) {
+    // Silence: no valid sample at all (a sample that keeps its stamp is the frozen rule's).
+    if (f.imu.valid) {
+      imu_seen_ = true;
+      last_imu_ns_ = f.now_ns;
+      ++tel_.imu_samples;
+    } else if (imu_seen_ && now_s - double(last_imu_ns_) * 1e-9 > cfg_.imu_timeout_s) {
+      faults_.raise(Fault::ImuTimeout);
+    }
     switch (imu_health_.add(f.imu, now_s, odom_.get().twist.wz)) {
       case ImuVerdict::OutOfRange:
         faults_.raise(Fault::ImuOutOfRange);

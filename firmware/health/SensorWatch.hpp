@@ -18,6 +18,7 @@ struct SensorWatchConfig {
   bool lidar_present = true;       // a lidar is fitted: its silence is a fault
   double scanner_timeout_s = 1.0;  // no new scan for this long is a fault [s]
   bool imu_present = true;         // an IMU is fitted: its samples are checked
+  double imu_timeout_s = 0.2;      // no valid IMU sample for this long is a fault [s]
   ImuHealthConfig imu;
 
   Status validate() const;
@@ -26,6 +27,7 @@ struct SensorWatchConfig {
 struct SensorWatchTelemetry {
   std::uint64_t camera_frames = 0;  // new frames seen
   std::uint64_t scans = 0;          // new scans seen
+  std::uint64_t imu_samples = 0;    // valid IMU samples seen
 };
 
 class SensorWatch {
@@ -45,6 +47,8 @@ class SensorWatch {
   ImuHealth imu_health_;
   std::uint32_t last_frame_seq_ = 0, last_scan_seq_ = 0;
   hal::TimeNs last_frame_ns_ = 0, last_scan_ns_ = 0;
+  bool imu_seen_ = false;
+  hal::TimeNs last_imu_ns_ = 0;
   SensorWatchTelemetry tel_;
 };
 

@@ -49,6 +49,7 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   const LineDetection& det = obs_.peek().detection;
   in.t_s = ctx.t_s;
   in.drives_ready = ctx.drives_ready;
+  in.imu_ready = ctx.imu_ready;
   in.camera_ready = obs_.ever();
   in.scanner_ready = !lidar_present_ || obstacles_.ever();
   in.line_visible = det.detected;

@@ -66,6 +66,7 @@ struct MissionContext {
   double t_s = 0.0;           // loop time [s]
   double dt_s = 0.0;          // control period [s]
   bool drives_ready = false;  // every drive reports Operation enabled
+  bool imu_ready = true;      // a valid IMU sample has arrived (or no IMU is fitted)
   const ObstacleGuard* guard = nullptr;
 
   // An obstacle stands ahead, inside the stopping corridor (computed once per tick, on demand).

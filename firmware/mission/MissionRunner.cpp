@@ -25,14 +25,15 @@ bool MissionContext::obstacle_ahead() const {
 MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count,
                              Mission& mission, const Topic<SensorFrame>& frame,
                              const Topic<OdometryMsg>& odom, const Topic<ObstacleField>& obstacles,
-                             Topic<MotionRequest>& out, FaultSink& faults)
+                             Topic<MotionRequest>& out, FaultSink& faults, bool imu_present)
     : period_s_(period_s),
       wheel_count_(wheel_count),
       mission_(mission),
       frame_(frame),
       out_(out),
       faults_(faults),
-      guard_(cfg.obstacle, obstacles, odom) {}
+      guard_(cfg.obstacle, obstacles, odom),
+      imu_present_(imu_present) {}
 
 void MissionRunner::run() {
   const SensorFrame& f = frame_.get();
@@ -50,6 +51,8 @@ void MissionRunner::run() {
   ctx.t_s = double(f.now_ns) * 1e-9;
   ctx.dt_s = period_s_;
   ctx.drives_ready = drives_enabled(f.wheels, wheel_count_);
+  imu_seen_ = imu_seen_ || f.imu.valid;
+  ctx.imu_ready = !imu_present_ || imu_seen_;
   ctx.guard = &guard_;
   if (!entered_) {
     mission_.enter(ctx);

@@ -55,8 +55,8 @@ class MissionRunner {
  public:
   MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count, Mission& mission,
                 const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
-                const Topic<ObstacleField>& obstacles, Topic<MotionRequest>& out,
-                FaultSink& faults);
+                const Topic<ObstacleField>& obstacles, Topic<MotionRequest>& out, FaultSink& faults,
+                bool imu_present = false);
 
   // Task: one mission update (or the safe stop).
   void run();
@@ -74,6 +74,8 @@ class MissionRunner {
   FaultSink& faults_;
   ObstacleGuard guard_;
   bool entered_ = false;
+  bool imu_present_;
+  bool imu_seen_ = false;
   MissionRunnerTelemetry tel_;
 };
 

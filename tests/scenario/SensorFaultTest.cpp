@@ -163,6 +163,28 @@ TEST(ImuHealth, OutOfRangeImuStopsTheRobot) {
   expect_safe_stop(o, "imu_out_of_range", 0.05);
 }
 
+TEST(ImuHealth, SilentImuStopsTheRobot) {
+  // The IMU stops delivering (unplugged): no valid sample for watch.imu_timeout_s (0.2 s).
+  const Outcome o = run_with_fault(
+      corners(), kInjectS, [](SimTopology& t) { t.imu.inject_fault(hal::SimSensorFault::Silent); });
+  expect_safe_stop(o, "imu_timeout", 0.25);
+}
+
+TEST(ImuHealth, AnImuThatNeverSpeaksEndsStartUpWithoutMoving) {
+  // Fitted but silent from the first tick: START waits for it, then gives up at its init timeout.
+  const Outcome o = run_with_fault(
+      corners(), 0.0, [](SimTopology& t) { t.imu.inject_fault(hal::SimSensorFault::Silent); });
+  EXPECT_EQ(o.summary.fault, "imu_timeout");
+  EXPECT_EQ(o.summary.final_state, "FAULT");
+  EXPECT_NEAR(o.fault_s, 3.0, 0.05);
+  EXPECT_LT(o.summary.path_length_m, 1e-3);
+  bool in_start = false;
+  for (const std::string& l : o.log) {
+    in_start = in_start || l.find("FAULT imu_timeout (code 0x0000) in START") != std::string::npos;
+  }
+  EXPECT_TRUE(in_start);
+}
+
 TEST(ImuHealthControl, ALiveImuRaisesNothingOverAWholeCourse) {
   const Outcome o = run_with_fault(corners(), kInjectS, [](SimTopology&) {});
   EXPECT_TRUE(o.summary.passed) << (o.summary.unmet_expectations.empty()

@@ -141,7 +141,7 @@ struct Sim {
   double t = 0.0;
   Pose2 pose;
   Twist last;  // last command
-  bool drives = true, camera = true, scanner = true;
+  bool drives = true, camera = true, scanner = true, imu = true;
   StraightTape tape;
   bool tape_in_view = true;  // the camera sees the tape (while it is ahead)
   bool tape_in_map = false;  // the TapeMap holds points (a frame with tape fills it)
@@ -185,6 +185,7 @@ struct Sim {
     in.drives_ready = drives;
     in.camera_ready = camera;
     in.scanner_ready = scanner;
+    in.imu_ready = imu;
     in.fresh_frame = camera && ticks % frame_every == 0;
     in.line_visible = in.fresh_frame && sees_tape();
     if (in.line_visible) {

@@ -39,7 +39,7 @@ TEST(LineBehaviorTest, WaitsUntilDrivesCameraAndScannerAreReady) {
 }
 
 struct TimeoutCase {
-  bool drives, camera, scanner;
+  bool drives, camera, scanner, imu;
   Fault expect;
 };
 
@@ -51,6 +51,7 @@ TEST_P(LineBehaviorStartTimeout, FaultsAfterInitTimeout) {
   s.drives = c.drives;
   s.camera = c.camera;
   s.scanner = c.scanner;
+  s.imu = c.imu;
   while (s.t < s.cfg.init_timeout_s - 0.005) {
     s.step();
     ASSERT_EQ(s.mb.state(), LineState::Start) << "t=" << s.last_in.t_s;
@@ -70,13 +71,15 @@ TEST_P(LineBehaviorStartTimeout, FaultsAfterInitTimeout) {
   EXPECT_EQ(s.phases, Phases({"stopped"}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Missing, LineBehaviorStartTimeout,
-                         testing::Values(TimeoutCase{false, true, true, Fault::DriveEnableTimeout},
-                                         TimeoutCase{false, false, false,
-                                                     Fault::DriveEnableTimeout},
-                                         TimeoutCase{true, false, true, Fault::CameraTimeout},
-                                         TimeoutCase{true, false, false, Fault::CameraTimeout},
-                                         TimeoutCase{true, true, false, Fault::ScannerTimeout}));
+INSTANTIATE_TEST_SUITE_P(
+    Missing, LineBehaviorStartTimeout,
+    testing::Values(TimeoutCase{false, true, true, true, Fault::DriveEnableTimeout},
+                    TimeoutCase{false, false, false, false, Fault::DriveEnableTimeout},
+                    TimeoutCase{true, false, true, true, Fault::CameraTimeout},
+                    TimeoutCase{true, false, false, true, Fault::CameraTimeout},
+                    TimeoutCase{true, true, false, true, Fault::ScannerTimeout},
+                    TimeoutCase{true, true, false, false, Fault::ScannerTimeout},
+                    TimeoutCase{true, true, true, false, Fault::ImuTimeout}));
 
 TEST(LineBehaviorTest, FindFollowsAtOnceWhenOnTheTape) {
   Sim s(false);

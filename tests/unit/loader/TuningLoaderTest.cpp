@@ -46,7 +46,7 @@ TEST(TuningLoader, ShippedFileLoads) {
   const std::string path = source_path("config/tuning/default.yaml");
   ASSERT_TRUE(load_tuning(path, t, error)) << error;
   EXPECT_EQ(t.source_path, path);
-  EXPECT_EQ(t.settings.size(), 15U);
+  EXPECT_EQ(t.settings.size(), 16U);
 }
 
 TEST(TuningLoader, UnknownKeysListTheAllowedOnes) {
