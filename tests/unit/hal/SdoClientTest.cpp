@@ -288,6 +288,23 @@ TEST(SdoClientConfigTest, InvalidNodeIdStartsNothing) {
   EXPECT_FALSE(bus.endpoint(1).receive(f));
 }
 
+TEST(SdoClientConfigTest, LongestMessageIsNotCut) {
+  LoopbackCanBus bus(LoopbackCanBus::Config{});
+  SdoClient::Config c;
+  c.node_id = 127;
+  SdoClient client(bus.endpoint(0), c);
+  ASSERT_TRUE(client.start_download(0xFFFF, 0xFF, 0xFFFFFFFFU, 4));
+  CanFrame abort;
+  abort.id = 0x580U + 127;
+  abort.len = 8;
+  const std::uint8_t bytes[8] = {0x80, 0xFF, 0xFF, 0xFF, 0x22, 0x00, 0x00, 0x08};
+  for (int i = 0; i < 8; ++i) abort.data[i] = bytes[i];
+  client.on_frame(abort);
+  EXPECT_EQ(std::string(client.result().message),
+            "node 127: SDO download 0xFFFF:FF = 4294967295 aborted: 0x08000022 data cannot be "
+            "transferred or stored because of the present device state");
+}
+
 TEST(SdoClientConfigTest, RefusedSendIsAnError) {
   LoopbackCanBus bus(LoopbackCanBus::Config{});
   SdoClient::Config c;
