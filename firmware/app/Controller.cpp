@@ -50,16 +50,16 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
   now_ns_ = frame.now_ns;
   frame_.publish(frame, frame.now_ns);
   const bool faulted_before = latched();
-  const std::uint8_t id_before = runner_.state().id;
-  const char* name_before = state_name();
+  const MissionState before = runner_.state();
   tasks_.run(tick_, frame.now_ns, clock_);
-  log_phase_change(frame.now_ns);
-  if (latched() != faulted_before || runner_.state().id != id_before) {
+  const MissionState after = runner_.state();
+  log_phase_change(frame.now_ns, after);
+  if (latched() != faulted_before || after.id != before.id) {
     Event e;
     e.t_ns = frame.now_ns;
     e.kind = EventKind::StateChange;
-    e.from = name_before;
-    e.to = state_name();
+    e.from = faulted_before ? "FAULT" : before.name;
+    e.to = latched() ? "FAULT" : after.name;
     events_.push(e);
   }
   ++tick_;
@@ -76,12 +76,12 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
   return cmd;
 }
 
-void Controller::log_phase_change(hal::TimeNs t_ns) {
+void Controller::log_phase_change(hal::TimeNs t_ns, const MissionState& now) {
   if (const char* phase = runner_.take_phase_change()) {
     Event e;
     e.t_ns = t_ns;
     e.kind = EventKind::Phase;
-    e.from = e.to = runner_.state().name;
+    e.from = e.to = now.name;
     e.phase = phase;
     events_.push(e);
   }

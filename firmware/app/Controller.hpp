@@ -75,7 +75,7 @@ class Controller final : public FaultSink {
   std::uint64_t ticks() const { return tick_; }
 
  private:
-  void log_phase_change(hal::TimeNs t_ns);
+  void log_phase_change(hal::TimeNs t_ns, const MissionState& now);
 
   const hal::Clock& clock_;
   double period_s_;

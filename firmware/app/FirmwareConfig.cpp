@@ -23,7 +23,6 @@ Status FirmwareConfig::validate() const {
 void apply_sensor_rates(FirmwareConfig& c) {
   c.watch.camera_timeout_s = std::max(0.2, 3.0 / c.camera.rate_hz);
   c.watch.scanner_timeout_s = std::max(0.5, 5.0 / c.lidar.rate_hz);
-  c.watch.lidar_present = c.lidar.present;
   const int scans = static_cast<int>(std::lround(c.lidar.rate_hz * 0.25));
   c.lidar.health.window_scans = std::clamp(scans, 2, ScanHealth::kMaxWindow);
   const int frames = static_cast<int>(std::lround(c.camera.rate_hz * 0.2));

@@ -9,7 +9,7 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
     : kinematics(cfg.drive),
       bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad),
       controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
-      watch(cfg.watch, bus.frame, bus.odometry, controller),
+      watch(cfg.watch, cfg.lidar.present, bus.frame, bus.odometry, controller),
       odometry(kinematics, bus.frame, bus.odometry),
       perception(cfg.camera, bus.frame, bus.odometry, bus.line, controller),
       obstacle_sensing(cfg.lidar, bus.frame, bus.odometry, bus.obstacles, controller),

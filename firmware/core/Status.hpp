@@ -33,14 +33,6 @@ class Status {
   char text_[kMaxText] = {};
 };
 
-// Range check for one configuration field [lo, hi] (NaN fails): the error names the field, its
-// value, its unit and the range.
-inline Status check_range(const char* field, double v, double lo, double hi, const char* unit) {
-  // Quiet comparisons: a NaN fails the check without raising a floating-point trap.
-  if (std::isgreaterequal(v, lo) && std::islessequal(v, hi)) return Status::ok();
-  return Status::error("%s: %g %s, expected %g to %g %s", field, v, unit, lo, hi, unit);
-}
-
 // Range checks over one config struct, keeping the first failure:
 //   return Checks("limits").range("max_speed_mps", max_speed_mps, 0.01, 10.0, "m/s").result();
 class Checks {

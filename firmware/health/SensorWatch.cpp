@@ -11,9 +11,15 @@ Status SensorWatchConfig::validate() const {
       .result();
 }
 
-SensorWatch::SensorWatch(const SensorWatchConfig& cfg, const Topic<SensorFrame>& frame,
-                         const Topic<OdometryMsg>& odom, FaultSink& faults)
-    : cfg_(cfg), frame_(frame), odom_(odom), faults_(faults), imu_health_(cfg.imu) {}
+SensorWatch::SensorWatch(const SensorWatchConfig& cfg, bool lidar_present,
+                         const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
+                         FaultSink& faults)
+    : cfg_(cfg),
+      lidar_present_(lidar_present),
+      frame_(frame),
+      odom_(odom),
+      faults_(faults),
+      imu_health_(cfg.imu) {}
 
 void SensorWatch::run() {
   const SensorFrame& f = frame_.get();
@@ -38,7 +44,7 @@ void SensorWatch::run() {
   if (last_frame_seq_ != 0 && now_s - double(last_frame_ns_) * 1e-9 > cfg_.camera_timeout_s) {
     faults_.raise(Fault::CameraTimeout);
   }
-  if (cfg_.lidar_present && last_scan_seq_ != 0 &&
+  if (lidar_present_ && last_scan_seq_ != 0 &&
       now_s - double(last_scan_ns_) * 1e-9 > cfg_.scanner_timeout_s) {
     faults_.raise(Fault::ScannerTimeout);
   }

@@ -15,7 +15,6 @@ namespace carril::fw {
 
 struct SensorWatchConfig {
   double camera_timeout_s = 0.5;   // no new camera frame for this long is a fault [s]
-  bool lidar_present = true;       // a lidar is fitted: its silence is a fault
   double scanner_timeout_s = 1.0;  // no new scan for this long is a fault [s]
   bool imu_present = true;         // an IMU is fitted: its samples are checked
   double imu_timeout_s = 0.2;      // no valid IMU sample for this long is a fault [s]
@@ -32,7 +31,8 @@ struct SensorWatchTelemetry {
 
 class SensorWatch {
  public:
-  SensorWatch(const SensorWatchConfig& cfg, const Topic<SensorFrame>& frame,
+  // lidar_present: a lidar is fitted, so its silence is a fault.
+  SensorWatch(const SensorWatchConfig& cfg, bool lidar_present, const Topic<SensorFrame>& frame,
               const Topic<OdometryMsg>& odom, FaultSink& faults);
 
   // Task: one look at every device.
@@ -41,6 +41,7 @@ class SensorWatch {
 
  private:
   SensorWatchConfig cfg_;
+  bool lidar_present_;
   const Topic<SensorFrame>& frame_;
   const Topic<OdometryMsg>& odom_;
   FaultSink& faults_;

@@ -124,7 +124,6 @@ TEST(FirmwareConfigBuilder, SensorsNotFittedAreTold) {
   const BuildResult b = build_firmware_config(r, mission("pid", 0.5));
   ASSERT_TRUE(b.ok) << b.error;
   EXPECT_FALSE(b.config.lidar.present);
-  EXPECT_FALSE(b.config.watch.lidar_present);
   EXPECT_FALSE(b.config.watch.imu_present);
 }
 

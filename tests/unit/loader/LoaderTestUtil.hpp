@@ -104,7 +104,6 @@ inline void expect_same(const fw::FirmwareConfig& a, const fw::FirmwareConfig& b
   CARRIL_SAME(lidar.health.window_scans);
   CARRIL_SAME(lidar.health.min_valid_fraction);
   CARRIL_SAME(watch.camera_timeout_s);
-  CARRIL_SAME(watch.lidar_present);
   CARRIL_SAME(watch.scanner_timeout_s);
   CARRIL_SAME(watch.imu_present);
   CARRIL_SAME(watch.imu.max_tilt_rad);
