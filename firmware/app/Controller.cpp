@@ -66,6 +66,12 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
   const hal::TimeNs dt = clock_.cpu_now_ns() - t0;
   tick_stats_.add(dt);
   if (dt > tick_budget_ns_) ++tick_overruns_;
+  const bool overran = dt > tick_budget_ns_ || missed_deadline_;
+  missed_deadline_ = false;
+  overruns_in_row_ = overran ? overruns_in_row_ + 1 : 0;
+  if (overrun_limit_ > 0 && overruns_in_row_ >= overrun_limit_) {
+    raise(Fault::TickOverrun, static_cast<std::uint16_t>(overrun_limit_));
+  }
   ActuatorCommand cmd = command_.get();
   if (latched()) {
     // The latch has the last word, whatever a task left behind.

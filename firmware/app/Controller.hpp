@@ -59,6 +59,13 @@ class Controller final : public FaultSink {
   // One control period.
   ActuatorCommand tick(const SensorFrame& frame);
 
+  // Init only: this many consecutive overrun ticks raise TickOverrun (a safe stop); 0, the
+  // default, never does. A tick overruns when its compute exceeds the tick budget (half the
+  // period) or when the loop missed its deadline (missed_deadline()).
+  void set_overrun_limit(std::uint32_t ticks) { overrun_limit_ = ticks; }
+  // The loop woke after the deadline of the tick about to run (it lost one or more periods).
+  void missed_deadline() { missed_deadline_ = true; }
+
   // FaultSink: the first fault latches.
   void raise(Fault f, std::uint16_t code = 0, const char* in_state = nullptr) override;
   bool latched() const override { return fault_ != Fault::None; }
@@ -89,6 +96,9 @@ class Controller final : public FaultSink {
   std::int64_t tick_budget_ns_;
   std::uint64_t tick_ = 0;
   std::uint64_t tick_overruns_ = 0;
+  std::uint32_t overrun_limit_ = 0;    // 0: off
+  std::uint32_t overruns_in_row_ = 0;  // consecutive overrun ticks
+  bool missed_deadline_ = false;       // set by the loop for the next tick
   hal::TimeNs now_ns_ = 0;
   Fault fault_ = Fault::None;
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts_{};

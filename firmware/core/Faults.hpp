@@ -20,6 +20,8 @@ enum class Fault : std::uint8_t {
   ImuFrozen,           // IMU sample no longer changes (same stamp, or same values while turning)
   ImuTimeout,          // a fitted IMU delivered no valid sample within watch.imu_timeout_s, or
                        // none at all by the end of start-up
+  TickOverrun,         // more consecutive ticks than the overrun limit overran their budget or
+                       // missed their deadline (the loop cannot keep its rate)
   Count,
 };
 
@@ -53,6 +55,8 @@ inline const char* fault_name(Fault f) {
       return "imu_frozen";
     case Fault::ImuTimeout:
       return "imu_timeout";
+    case Fault::TickOverrun:
+      return "tick_overrun";
     case Fault::Count:
       break;
   }

@@ -4,6 +4,7 @@
 // is counted and the schedule skips the missed periods instead of bursting to catch up.
 #include <cstdint>
 
+#include "firmware/core/LatencyStats.hpp"
 #include "hal/Clock.hpp"
 
 namespace carril::fw {
@@ -33,16 +34,27 @@ class FixedRateLoop {
         const hal::TimeNs late = now - next;
         const auto skipped = static_cast<std::uint64_t>((late + period_ns_ - 1) / period_ns_);
         st.missed_deadlines += skipped;
+        missed_ += skipped;
         next += static_cast<hal::TimeNs>(skipped) * period_ns_;
       }
       clock_.sleep_until_ns(next);
+      // How late the OS woke us: the scheduling latency a real-time loop is judged by.
+      const hal::TimeNs woke = clock_.now_ns() - next;
+      wake_.add(woke > 0 ? woke : 0);
     }
     return st;
   }
 
+  // Wake latency: how long after each deadline the loop ran again [1 us bins, up to 8 ms exact].
+  const LatencyStats& wake_latency() const { return wake_; }
+  // Deadlines missed since construction (also while run() is under way).
+  std::uint64_t missed_deadlines() const { return missed_; }
+
  private:
   hal::Clock& clock_;
   hal::TimeNs period_ns_;
+  LatencyStats wake_{1000};
+  std::uint64_t missed_ = 0;
 };
 
 }  // namespace carril::fw

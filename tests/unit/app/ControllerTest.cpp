@@ -222,5 +222,34 @@ TEST(ControllerTest, ATickOverItsBudgetIsCounted) {
   EXPECT_DOUBLE_EQ(t.tick_budget_us, 5000.0);
 }
 
+TEST(ControllerTest, ConsecutiveOverrunsBeyondTheLimitSafeStop) {
+  Rig r(100.0);
+  ASSERT_TRUE(r.declare().is_ok());
+  r.ctl.set_overrun_limit(3);
+  // Isolated overruns (the slow task on every 4th tick) never make 3 in a row.
+  r.burn_ns = 6'000'000;
+  for (int i = 0; i < 40; ++i) EXPECT_EQ(r.tick(i).drive, DriveRequest::Run) << i;
+  EXPECT_EQ(r.ctl.fault(), Fault::None);
+  // Missed deadlines count too: the next two ticks miss theirs, and the slow one overruns.
+  r.ctl.missed_deadline();
+  EXPECT_EQ(r.tick(40).drive, DriveRequest::Run);  // 40 % 4 = 0: slow does not run; missed
+  r.ctl.missed_deadline();
+  EXPECT_EQ(r.tick(41).drive, DriveRequest::Run);  // missed again: 2 in a row
+  const ActuatorCommand c = r.tick(42);            // the slow task's tick: the third
+  EXPECT_EQ(c.drive, DriveRequest::QuickStop);
+  EXPECT_EQ(r.ctl.fault(), Fault::TickOverrun);
+  bool logged = false;
+  for (const std::string& e : r.events()) logged = logged || contains(e, "tick_overrun");
+  EXPECT_TRUE(logged);
+}
+
+TEST(ControllerTest, NoOverrunLimitByDefault) {
+  Rig r(100.0);
+  ASSERT_TRUE(r.declare().is_ok());
+  r.burn_ns = 6'000'000;
+  for (int i = 0; i < 10; ++i) r.ctl.missed_deadline(), r.tick(i);
+  EXPECT_EQ(r.ctl.fault(), Fault::None);
+}
+
 }  // namespace
 }  // namespace carril::fw

@@ -174,5 +174,50 @@ TEST(FixedRateLoopTest, MaxPeriodsHonoured) {
   EXPECT_EQ(one.periods, 1U);
 }
 
+// A clock whose sleeps oversleep by a set amount: the OS waking the loop late.
+class LateWakeClock final : public hal::Clock {
+ public:
+  hal::TimeNs now_ns() const override { return now; }
+  hal::TimeNs cpu_now_ns() const override { return now; }
+  void sleep_until_ns(hal::TimeNs t) override {
+    const hal::TimeNs late = lateness[std::size_t(sleeps++) % lateness.size()];
+    if (t + late > now) now = t + late;
+  }
+  hal::TimeNs now = kStart;
+  int sleeps = 0;
+  std::vector<hal::TimeNs> lateness;
+};
+
+TEST(FixedRateLoopTest, WakeLatencyIsMeasuredAfterEachDeadline) {
+  LateWakeClock clock;
+  // 101 periods, one sleep after each: 99 wakes 20 us late, 2 (sleeps 10 and 60) 700 us late.
+  clock.lateness.assign(50, 20'000);
+  clock.lateness[10] = 700'000;
+  FixedRateLoop loop(clock, kPeriod);
+  const LoopStats st = loop.run([] { return true; }, 101);
+  EXPECT_EQ(st.periods, 101U);
+  EXPECT_EQ(loop.missed_deadlines(), 0U);
+  const LatencyStats& w = loop.wake_latency();
+  EXPECT_EQ(w.count(), 101U);
+  EXPECT_DOUBLE_EQ(w.percentile_us(0.5), 21.0);  // the upper edge of the 1 us bin of 20 us
+  EXPECT_DOUBLE_EQ(w.percentile_us(0.99), 700.0);
+  EXPECT_DOUBLE_EQ(w.max_us(), 700.0);
+}
+
+TEST(FixedRateLoopTest, MissedDeadlinesAreCountedWhileRunning) {
+  FakeLoopClock clock;
+  FixedRateLoop loop(clock, kPeriod);
+  std::vector<std::uint64_t> seen;
+  int k = 0;
+  loop.run(
+      [&] {
+        seen.push_back(loop.missed_deadlines());
+        if (k++ == 2) clock.now += kPeriod * 5 / 2;  // overrun: misses 2 deadlines
+        return true;
+      },
+      6);
+  EXPECT_EQ(seen, (std::vector<std::uint64_t>{0, 0, 0, 2, 2, 2}));
+}
+
 }  // namespace
 }  // namespace carril::fw
