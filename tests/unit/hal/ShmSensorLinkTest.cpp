@@ -108,13 +108,24 @@ TEST(ShmSensorLink, NoTornFrameUnderConcurrentWrites) {
   ASSERT_TRUE(r.open(name.c_str())) << r.error();
   std::atomic<bool> stop{false};
   std::thread writer([&] {
-    // As fast as it can: the writer laps a reader in the middle of its copy now and then.
+    // Every third frame (always slot 0) is large, the two between are one pixel. After three
+    // large frames out of four the writer waits only 10 us, long enough for the reader to start
+    // copying, then comes back to slot 0 at once and overtakes the copy (memset outruns
+    // memcpy): a reader without the version check returns torn frames. After the fourth it
+    // waits 2 ms, so clean copies of large frames happen too.
     for (std::uint64_t k = 1; !stop; ++k) {
       CameraFrame& f = w.camera_begin();
-      f.width = 640;
-      f.height = 480;
-      std::memset(f.bgr.data(), int(k & 0xFFU), 640 * 480 * 3);
+      const bool large = k % kShmCameraSlots == 0;
+      f.width = large ? 640 : 1;
+      f.height = large ? 480 : 1;
+      std::memset(f.bgr.data(), int(k & 0xFFU), std::size_t(f.width) * f.height * 3);
       w.camera_commit(TimeNs(k));  // seq k
+      if (large) {
+        const auto pause = std::chrono::microseconds(k % (4 * kShmCameraSlots) == 0 ? 2000 : 10);
+        const auto until = std::chrono::steady_clock::now() + pause;
+        while (std::chrono::steady_clock::now() < until) {
+        }
+      }
       ImuSample s;
       s.valid = true;
       s.stamp_ns = TimeNs(k);
@@ -122,13 +133,14 @@ TEST(ShmSensorLink, NoTornFrameUnderConcurrentWrites) {
       w.publish_imu(s);
     }
   });
-  int frames = 0, samples = 0, bad_frames = 0, bad_samples = 0;
+  int frames = 0, large_frames = 0, samples = 0, bad_frames = 0, bad_samples = 0;
   std::uint32_t last_seq = 0;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(1000);
   while (std::chrono::steady_clock::now() < until) {
     const CameraFrame* f = r.camera().latest();
     if (f != nullptr && f->seq != last_seq) {
       ++frames;
+      if (f->width == 640) ++large_frames;
       if (f->seq < last_seq || !uniform(*f, std::uint8_t(f->seq & 0xFFU))) ++bad_frames;
       last_seq = f->seq;
     }
@@ -140,12 +152,13 @@ TEST(ShmSensorLink, NoTornFrameUnderConcurrentWrites) {
   }
   stop = true;
   writer.join();
-  EXPECT_GT(frames, 10);
+  EXPECT_GT(frames, 5);  // low: other builds share the 2 cores
+  EXPECT_GT(large_frames, 2);
   EXPECT_EQ(bad_frames, 0);
   EXPECT_GT(samples, 10);
   EXPECT_EQ(bad_samples, 0);
-  std::printf("frames %d, torn copies retried %llu, given up %llu\n", frames,
-              static_cast<unsigned long long>(r.camera().torn_retries()),
+  std::printf("frames %d (%d large), torn copies retried %llu, given up %llu\n", frames,
+              large_frames, static_cast<unsigned long long>(r.camera().torn_retries()),
               static_cast<unsigned long long>(r.camera().torn_drops()));
 }
 

@@ -199,6 +199,7 @@ TEST_F(ScipServerTest, StreamsScansWithRemainingCountsAndTimestamps) {
 
 TEST_F(ScipServerTest, ClustersGetsAndIntensities) {
   hal::LaserScan scan = ust_shape();
+  scan.ranges_m[10] = 5.0F;
   scan.ranges_m[11] = std::numeric_limits<float>::infinity();
   server_.publish(scan);
   Client c(server_.port());
@@ -211,7 +212,7 @@ TEST_F(ScipServerTest, ClustersGetsAndIntensities) {
   scip::Distances d;
   ASSERT_EQ(scip::parse_distances(l, v.data(), nullptr, 16, d), scip::ReplyError::None) << m;
   ASSERT_EQ(d.count, 4);
-  EXPECT_EQ(v[0], 600U);  // min of 0.60, +inf (code 1, not valid), 0.62
+  EXPECT_EQ(v[0], 620U);  // the shortest valid of 5.0, +inf (code 1, not valid), 0.62
   EXPECT_EQ(v[3], 690U);
   c.send_line("ME0000000200000");
   EXPECT_EQ(c.message(), "ME0000000200000\n00P\n\n");
