@@ -365,14 +365,13 @@ std::uint32_t DriveEmulator::check_download(const OdEntry& e, std::uint32_t v) {
         if (v == 0) return 0;
         if (v > count) return kAbortMappingTooLong;
         if (v < count) return kAbortCannotMap;
-        ObjectDictionary fresh(cfg_.node);
         for (std::uint8_t s = 1; s <= count; ++s) {
-          if (od_.get(e.index, s) != fresh.get(e.index, s)) return kAbortCannotMap;
+          if (od_.get(e.index, s) != od_.default_value(e.index, s)) return kAbortCannotMap;
         }
         return 0;
       }
       if (od_.get(e.index, 0) != 0) return kAbortDeviceState;  // CiA 301: sub 0 = 0 first
-      return v == ObjectDictionary(cfg_.node).get(e.index, e.subindex) ? 0 : kAbortCannotMap;
+      return v == od_.default_value(e.index, e.subindex) ? 0 : kAbortCannotMap;
     }
     case 0x1016:
       return ((v >> 16) & 0xFFU) <= canopen::kMaxNodeId && (v >> 24) == 0 ? 0 : kAbortValueRange;

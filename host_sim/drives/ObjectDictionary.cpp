@@ -121,7 +121,7 @@ void ObjectDictionary::reset_range(std::uint16_t first, std::uint16_t last) {
   for (std::size_t i = 0; i < count_; ++i) {
     OdEntry& e = entries_[i];
     if (e.index < first || e.index > last) continue;
-    e.value = e.default_value + (e.node_relative ? node_ : 0U);
+    e.value = default_value(e.index, e.subindex);
   }
 }
 
@@ -154,6 +154,11 @@ bool ObjectDictionary::has_index(std::uint16_t index) const {
 std::uint32_t ObjectDictionary::get(std::uint16_t index, std::uint8_t subindex) const {
   const OdEntry* e = find(index, subindex);
   return e != nullptr ? e->value : 0U;
+}
+
+std::uint32_t ObjectDictionary::default_value(std::uint16_t index, std::uint8_t subindex) const {
+  const OdEntry* e = find(index, subindex);
+  return e != nullptr ? e->default_value + (e->node_relative ? node_ : 0U) : 0U;
 }
 
 void ObjectDictionary::set(std::uint16_t index, std::uint8_t subindex, std::uint32_t value) {

@@ -57,6 +57,8 @@ class ObjectDictionary {
 
   // Current raw value of an object the emulator knows exists (0 when it does not).
   std::uint32_t get(std::uint16_t index, std::uint8_t subindex) const;
+  // The default of an object (node id added where node-relative), 0 when it does not exist.
+  std::uint32_t default_value(std::uint16_t index, std::uint8_t subindex) const;
   // Sets an object's value without any SDO check (the drive's own updates, e.g. 0x6041).
   void set(std::uint16_t index, std::uint8_t subindex, std::uint32_t value);
 
