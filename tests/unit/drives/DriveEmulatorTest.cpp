@@ -391,6 +391,42 @@ TEST_F(DriveEmulatorTest, StopsTheWheelOnItsOwnWhenTheMasterHeartbeatStops) {
   EXPECT_EQ(upload(0x603F, 0).value, kEmcyHeartbeatLost);
 }
 
+TEST_F(DriveEmulatorTest, AppliesTheRpdoAtTheNextSyncOnly) {
+  bring_up();
+  master().send(canopen::rpdo1(kNode, cia402::kCwShutdown, 0));
+  tick();
+  EXPECT_EQ(drive_.state(), State::SwitchOnDisabled);  // received, not yet applied
+  EXPECT_EQ(drive_.counters().rpdos_applied, 0U);
+  master().send(canopen::sync_frame());
+  tick();
+  EXPECT_EQ(drive_.state(), State::ReadyToSwitchOn);
+  EXPECT_EQ(drive_.counters().rpdos_applied, 1U);
+}
+
+TEST_F(DriveEmulatorTest, LeavingOperationalQuickStopsAMovingWheel) {
+  bring_up();
+  drive_to(cia402::Goal::Enabled);
+  for (int i = 0; i < 60; ++i) cycle(cia402::kCwEnableOperation, 10.0);
+  master().send(canopen::nmt(canopen::NmtCommand::EnterPreOperational, kNode));
+  for (int i = 0; i < 50; ++i) {  // the master lives on, without PDOs
+    master().send(canopen::heartbeat(kMaster, canopen::NmtState::PreOperational));
+    tick();
+  }
+  EXPECT_EQ(drive_.state(), State::QuickStopActive);
+  EXPECT_EQ(drive_.wheel_speed_radps(), 0.0);
+}
+
+TEST_F(DriveEmulatorTest, HoldsStillWithoutProfileVelocityMode) {
+  tick();
+  master().send(canopen::nmt(canopen::NmtCommand::Start, kNode));  // no bring-up: 0x6060 = 0
+  tick();
+  drive_to(cia402::Goal::Enabled);
+  ASSERT_EQ(drive_.state(), State::OperationEnabled);
+  for (int i = 0; i < 50; ++i) cycle(cia402::kCwEnableOperation, 10.0);
+  EXPECT_EQ(drive_.wheel_speed_radps(), 0.0);
+  EXPECT_EQ(upload(0x6061, 0).value, 0U);
+}
+
 TEST_F(DriveEmulatorTest, ProducesHeartbeatsAtThePeriodOf0x1017) {
   bring_up();  // 0x1017 = 50 ms
   const std::size_t from = rx_.size();
