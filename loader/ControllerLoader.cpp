@@ -1,6 +1,7 @@
 #include "loader/ControllerLoader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "loader/StrictYaml.hpp"
@@ -81,14 +82,19 @@ void parse_can(const Node& m, const RobotSpec& robot, CanSpec& c) {
   c.master_node = static_cast<int>(m.at("master_node").integer(1, 127));
   c.master_heartbeat_ms = static_cast<int>(m.at("master_heartbeat_ms").integer(10, 10000));
   c.drive_heartbeat_ms = static_cast<int>(m.at("drive_heartbeat_ms").integer(10, 10000));
-  // The contract: a lost drive is a fault within 3 of its heartbeat periods, and a timeout at or
-  // under one period would fire on a heartbeat merely late by jitter.
+  // The contract: every wheel stopped within 3 of a drive's heartbeat periods after its last
+  // heartbeat. The master notices a loss at a control tick, so the consumer time plus two
+  // control periods must fit in 3 heartbeat periods; at or under one period a heartbeat merely
+  // late by jitter would count as lost.
   const Node dt = m.at("drive_timeout_ms");
   c.drive_timeout_ms = static_cast<int>(dt.integer(1, 65535));
-  if (c.drive_timeout_ms <= c.drive_heartbeat_ms || c.drive_timeout_ms > 3 * c.drive_heartbeat_ms) {
-    dt.expected("more than one and at most three drive_heartbeat_ms periods (" +
-                    std::to_string(c.drive_heartbeat_ms + 1) + " to " +
-                    std::to_string(3 * c.drive_heartbeat_ms) + " ms)",
+  const int period_ms = static_cast<int>(std::ceil(1000.0 / robot.control_rate_hz));
+  const int hi = 3 * c.drive_heartbeat_ms - 2 * period_ms;
+  if (c.drive_timeout_ms <= c.drive_heartbeat_ms || c.drive_timeout_ms > hi) {
+    dt.expected("more than one drive_heartbeat_ms period and at most three less two control "
+                "periods of " +
+                    robot.preset + " (" + std::to_string(c.drive_heartbeat_ms + 1) + " to " +
+                    std::to_string(hi) + " ms)",
                 dt.raw());
   }
   // 0x1016's consumer time is 16 bits of milliseconds; at or under one period of the master's

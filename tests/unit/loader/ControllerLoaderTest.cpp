@@ -45,7 +45,7 @@ TEST(ControllerLoader, ShippedCamperoFile) {
   EXPECT_DOUBLE_EQ(c.can.drives[2].gear_ratio, 12.52);
   EXPECT_FALSE(c.can.drives[0].inverted);
   EXPECT_TRUE(c.can.drives[1].inverted);
-  EXPECT_EQ(c.can.drive_timeout_ms, 150);
+  EXPECT_EQ(c.can.drive_timeout_ms, 120);
   EXPECT_DOUBLE_EQ(c.can.sdo_timeout_s, 0.1);
   EXPECT_DOUBLE_EQ(c.can.quick_stop_decel_radps2, 50.0);
   EXPECT_EQ(c.lidar.source, SensorSource::Scip);
@@ -119,10 +119,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "got 127"},
         BadCase{"node: 3,", "node: 128,",
                 ":21: can.drives[2].node: expected an integer in [1, 127], got 128"},
-        BadCase{"drive_timeout_ms: 150", "drive_timeout_ms: 151",
-                ":9: can.drive_timeout_ms: expected more than one and at most three "
-                "drive_heartbeat_ms periods (51 to 150 ms), got 151"},
-        BadCase{"drive_timeout_ms: 150", "drive_timeout_ms: 50",
+        BadCase{"drive_timeout_ms: 120", "drive_timeout_ms: 131",
+                ":9: can.drive_timeout_ms: expected more than one drive_heartbeat_ms period and "
+                "at most three less two control periods of campero (51 to 130 ms), got 131"},
+        BadCase{"drive_timeout_ms: 120", "drive_timeout_ms: 50",
                 ":9: can.drive_timeout_ms: expected more than one"},
         BadCase{"master_timeout_ms: 150", "master_timeout_ms: 40",
                 ":10: can.master_timeout_ms: expected more than master_heartbeat_ms (50 ms)"},
