@@ -65,6 +65,7 @@ const char* CanopenWheelDrives::validate() {
     TimeNs value;
   };
   const Time times[] = {{"master_heartbeat_ns", c.master_heartbeat_ns},
+                        {"control_period_ns", c.control_period_ns},
                         {"heartbeat_consumer_ns", c.heartbeat_consumer_ns},
                         {"sdo_timeout_ns", c.sdo_timeout_ns},
                         {"boot_timeout_ns", c.boot_timeout_ns},
@@ -127,13 +128,17 @@ const char* CanopenWheelDrives::validate() {
                     static_cast<long long>(c.master_heartbeat_ns / kMsNs));
       return e;
     }
+    // A heartbeat is read up to one control period after it came, and the loss is found at
+    // the first sync() after the consumer time: the wheels stop within consumer time + 2
+    // control periods of the last heartbeat, which must be at most 3 heartbeat periods.
     const TimeNs period = TimeNs(d.heartbeat_ms) * kMsNs;
-    if (period <= 0 || c.heartbeat_consumer_ns <= period || c.heartbeat_consumer_ns > 3 * period) {
+    if (period <= 0 || c.heartbeat_consumer_ns <= period ||
+        c.heartbeat_consumer_ns + 2 * c.control_period_ns > 3 * period) {
       std::snprintf(e, n,
                     "heartbeat_consumer_ns = %lld ms: expected more than drive[%d].heartbeat_ms "
-                    "(%u ms) and at most 3 of them (the stop-within-3-heartbeats contract)",
+                    "(%u ms); with 2 control periods (%lld ms) at most 3 of them",
                     static_cast<long long>(c.heartbeat_consumer_ns / kMsNs), i,
-                    unsigned(d.heartbeat_ms));
+                    unsigned(d.heartbeat_ms), static_cast<long long>(c.control_period_ns / kMsNs));
       return e;
     }
   }

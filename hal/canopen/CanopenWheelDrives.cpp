@@ -58,6 +58,12 @@ void CanopenWheelDrives::reset_faults() {
       const bool heard_since = alive && hb->last_ns > d.latch_ns;
       const bool communication = d.latch == kFaultHeartbeatLost || d.latch == kFaultBusDown;
       if (d.latch == kFaultRebooted || !alive || (communication && !heard_since)) continue;
+      if (d.latch == kFaultNotOperational &&
+          hb->state != static_cast<std::uint8_t>(NmtState::Operational)) {
+        // Ask it back; the latch clears at a later reset_faults() once its heartbeat agrees.
+        send(nmt(NmtCommand::Start, cfg_.drive[i].node), now);
+        continue;
+      }
       d.latch = 0;
       d.latch_generic = false;
     }
@@ -162,8 +168,14 @@ void CanopenWheelDrives::dispatch(const CanFrame& f, TimeNs now) {
         return;
       }
       ++counters_.heartbeats;
-      if (f.data[0] == static_cast<std::uint8_t>(NmtState::BootUp) && phase_ == Phase::Ready) {
+      if (phase_ != Phase::Ready) return;
+      const std::uint8_t state = f.data[0] & 0x7FU;
+      if (state == static_cast<std::uint8_t>(NmtState::BootUp)) {
         latch(i, kFaultRebooted, now, "boot-up while running: its setup is lost, run init()");
+      } else if (state != static_cast<std::uint8_t>(NmtState::Operational)) {
+        // Its PDOs stopped: the statusword and speeds the master holds are stale.
+        latch(i, kFaultNotOperational, now, "left Operational: heartbeat says %s",
+              nmt_state_name(state));
       }
       return;
     }

@@ -39,11 +39,12 @@ class ClockSleepWaiter final : public BringUpWaiter {
 };
 
 // Fault codes the master itself reports (a drive's own faults report its EMCY code).
-constexpr std::uint16_t kFaultHeartbeatLost = 0x8130;  // = DriveFault::HeartbeatLost
-constexpr std::uint16_t kFaultBusDown = 0x8100;        // bus-off or send refused
-constexpr std::uint16_t kFaultEnableTimeout = 0xFF01;  // did not reach Operation enabled in time
-constexpr std::uint16_t kFaultGeneric = 0x1000;        // Fault statusword without an EMCY
-constexpr std::uint16_t kFaultRebooted = 0x6000;       // boot-up after bring-up: setup lost
+constexpr std::uint16_t kFaultHeartbeatLost = 0x8130;   // = DriveFault::HeartbeatLost
+constexpr std::uint16_t kFaultBusDown = 0x8100;         // bus-off or send refused
+constexpr std::uint16_t kFaultEnableTimeout = 0xFF01;   // did not reach Operation enabled in time
+constexpr std::uint16_t kFaultGeneric = 0x1000;         // Fault statusword without an EMCY
+constexpr std::uint16_t kFaultRebooted = 0x6000;        // boot-up after bring-up: setup lost
+constexpr std::uint16_t kFaultNotOperational = 0x8200;  // heartbeat: left Operational unasked
 
 struct CanopenConfig {
   static constexpr TimeNs kMs = 1'000'000;
@@ -53,8 +54,9 @@ struct CanopenConfig {
   const char* name[kMaxWheels] = {};         // per wheel, for messages ("rear-left"); optional
   std::uint8_t master_node = 127;            // the master's node id (its heartbeat's COB-ID)
   TimeNs master_heartbeat_ns = 20 * kMs;     // the master's heartbeat period [ns]
-  TimeNs heartbeat_consumer_ns = 125 * kMs;  // a drive silent this long is lost [ns]; at most 3
-                                             // of its heartbeat periods minus one control period
+  TimeNs control_period_ns = 10 * kMs;       // how often sync() is called [ns]
+  TimeNs heartbeat_consumer_ns = 125 * kMs;  // a drive silent this long is lost [ns]; plus two
+                                             // control periods at most 3 heartbeat periods
   TimeNs sdo_timeout_ns = 50 * kMs;          // per SDO response [ns]
   TimeNs boot_timeout_ns = 1000 * kMs;       // boot-up after reset, operational after start [ns]
   TimeNs enable_timeout_ns = 1000 * kMs;     // reaching Operation enabled (init and enable()) [ns]

@@ -235,6 +235,28 @@ TEST_F(CanopenFaults, ADriveThatRebootsWhileRunningIsAFaultThatResetDoesNotClear
   EXPECT_TRUE(stopped_since(b.slave(2), b.clock().t - 30 * kMs));
 }
 
+TEST_F(CanopenFaults, ADriveThatLeavesOperationalIsAFaultUntilStartedAgain) {
+  b.slave(2).nmt = Slave::Nmt::PreOp;  // its PDOs stop, its heartbeat says pre-operational
+  b.ticks(6);
+  EXPECT_EQ(b.feedback(0).state, DriveState::Fault);
+  EXPECT_EQ(static_cast<std::uint16_t>(b.feedback(0).fault), kFaultNotOperational);
+  EXPECT_STREQ(b.drives().last_fault(),
+               "drive 0 (node 2): left Operational: heartbeat says pre-operational");
+  const TimeNs t = b.clock().t;
+  b.ticks(3);
+  EXPECT_TRUE(stopped_since(b.slave(3), t));
+  const int starts = b.slave(2).nmt_starts;
+  b.drives().reset_faults();  // sends NMT start; the latch stays until the heartbeat agrees
+  b.ticks(6);
+  EXPECT_EQ(b.slave(2).nmt_starts, starts + 1);
+  EXPECT_EQ(b.feedback(0).state, DriveState::Fault);
+  b.drives().reset_faults();
+  b.drives().enable();
+  b.ticks(10);
+  EXPECT_EQ(b.feedback(0).state, DriveState::Enabled);
+  EXPECT_EQ(b.feedback(1).state, DriveState::Enabled);
+}
+
 TEST_F(CanopenFaults, AnEnableThatDoesNotFinishAtRunTimeNamesTheStuckState) {
   b.drives().quick_stop();
   b.ticks(3);

@@ -146,6 +146,9 @@ TEST(CanopenConfig, ABadValueFailsInitNamingTheField) {
       {"drive[1].master_node = 100", [](CanopenConfig& c) { c.drive[1].master_node = 100; }},
       {"drive[0].master_timeout_ms = 20",
        [](CanopenConfig& c) { c.drive[0].master_timeout_ms = 20; }},
+      {"heartbeat_consumer_ns = 135 ms",  // + 2 x 10 ms > 3 x 50 ms
+       [](CanopenConfig& c) { c.heartbeat_consumer_ns = 135 * kMs; }},
+      {"control_period_ns = 0", [](CanopenConfig& c) { c.control_period_ns = 0; }},
       {"heartbeat_consumer_ns = 160 ms",
        [](CanopenConfig& c) { c.heartbeat_consumer_ns = 160 * kMs; }},
       {"heartbeat_consumer_ns = 50 ms",
