@@ -68,6 +68,7 @@ class SocketCanBus final : public CanBus {
   SocketCanBus& operator=(const SocketCanBus&) = delete;
 
   bool send(const CanFrame& frame) override;
+  // rx_dropped (the socket's receive queue overran) is learned with the next frame received.
   bool receive(CanFrame& out) override;
   CanBusCounters counters() const override { return counters_; }
 
