@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Send throughput on a real kernel's vcan0, inside one user-mode-linux boot: can-utils'
+# `cangen vcan0 -g 0 -n N` against carril's SocketCanBus (carril_can_throughput -n N), R runs
+# each, alternating, both timed the same way (the whole process, start included); prints every run, the medians and the ratio carril / cangen (goal: >= 1).
+# Exit 77 when user-mode-linux cannot start (tools/uml/uml_run.sh says why).
+# Usage: tools/uml/bench_vcan.sh [--build DIR] [-n FRAMES] [--runs R]
+#   --build DIR  the build tree holding bench/carril_can_throughput (default build/host)
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+build=$here/../../build/host n=20000 runs=3 inside=0
+while [ $# -gt 0 ]; do
+  case $1 in
+    --build) build=${2:?}; shift 2 ;;
+    -n) n=${2:?}; shift 2 ;;
+    --runs) runs=${2:?}; shift 2 ;;
+    --inside) inside=1; shift ;;
+    *) sed -n '2,7s/^# \{0,1\}//p' "$0" >&2; exit 2 ;;
+  esac
+done
+bin=$(cd "$build" 2>/dev/null && pwd)/bench/carril_can_throughput
+
+if [ $inside -eq 0 ]; then
+  [ -x "$bin" ] || { echo "bench_vcan: no $bin (cmake --build --preset host --target carril_can_throughput)" >&2; exit 2; }
+  command -v cangen >/dev/null || { echo "bench_vcan: SKIP: no cangen (apt-get install can-utils)" >&2; exit 77; }
+  exec "$here/uml_run.sh" --vcan 1 --timeout 600 -- bash "$here/bench_vcan.sh" --inside \
+    --build "$build" -n "$n" --runs "$runs"
+fi
+
+# Inside the guest.
+now_ns() { date +%s%N; }
+rate() { awk -v n="$n" -v ns="$1" 'BEGIN { printf "%.0f", n / (ns / 1e9) }'; }
+median() { printf '%s\n' "$@" | sort -n | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+echo "kernel $(uname -r) (user-mode-linux), vcan0, $n frames a run, $runs runs each"
+cg=() cr=()
+for ((r = 1; r <= runs; r++)); do
+  t0=$(now_ns)
+  cangen vcan0 -g 0 -n "$n" || { echo "cangen failed" >&2; exit 1; }
+  t1=$(now_ns)
+  cg+=("$(rate $((t1 - t0)))")
+  echo "run $r: cangen vcan0 -g 0 -n $n: ${cg[-1]} frames/s ($(((t1 - t0) / 1000000)) ms)"
+  t0=$(now_ns)
+  own=$("$bin" --iface vcan0 -n "$n") || { echo "carril_can_throughput failed: $own" >&2; exit 1; }
+  t1=$(now_ns)
+  cr+=("$(rate $((t1 - t0)))")
+  echo "run $r: carril_can_throughput -n $n: ${cr[-1]} frames/s ($(((t1 - t0) / 1000000)) ms)"
+  echo "       its own timing, without process start: $own"
+done
+mc=$(median "${cg[@]}") mr=$(median "${cr[@]}")
+ratio=$(awk -v a="$mr" -v b="$mc" 'BEGIN { printf "%.2f", a / b }')
+echo "median: cangen $mc frames/s, carril $mr frames/s, carril / cangen = $ratio (goal >= 1)"
+awk -v r="$ratio" 'BEGIN { exit !(r >= 1.0) }' || echo "bench_vcan: carril is below cangen's rate"
