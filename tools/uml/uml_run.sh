@@ -112,7 +112,10 @@ export -p | grep -v -E '^declare -x (PWD|OLDPWD|SHLVL|_)=' >"$work/env"
 } >"$work/init"
 chmod +x "$work/init"
 
-# setsid: UML's helper processes share its process group, so a hang is killed whole.
+# setsid: UML's helper processes share its process group, so a hang is killed whole. The
+# shell's own stderr is muted meanwhile: it would report how the kernel process ended (it
+# sometimes aborts while halting, after the command's results are written).
+exec 3>&2 2>/dev/null
 TMPDIR=$memdir setsid "$linux" mem="$mem" rootfstype=hostfs rootflags=/ rw init="$work/init" \
   uml_dir="$work/umid" con=null con0=fd:0,fd:1 quiet </dev/null >"$work/console" 2>&1 &
 uml_pid=$!
@@ -123,8 +126,9 @@ if kill -0 "$uml_pid" 2>/dev/null; then
   timed_out=1
   kill -KILL -- "-$uml_pid" 2>/dev/null || kill -KILL "$uml_pid"
 fi
-wait "$uml_pid" 2>/dev/null
+wait "$uml_pid"
 uml_pid=
+exec 2>&3 3>&-
 
 console_tail() { tail -n "${1:-15}" "$work/console" | sed 's/^/  uml| /' >&2; }
 [ $verbose -eq 1 ] && sed 's/^/  uml| /' "$work/console" >&2
