@@ -91,11 +91,12 @@ void parse_can(const Node& m, const RobotSpec& robot, CanSpec& c) {
   const int period_ms = static_cast<int>(std::ceil(1000.0 / robot.control_rate_hz));
   const int hi = 3 * c.drive_heartbeat_ms - 2 * period_ms;
   if (c.drive_timeout_ms <= c.drive_heartbeat_ms || c.drive_timeout_ms > hi) {
-    dt.expected("more than one drive_heartbeat_ms period and at most three less two control "
-                "periods of " +
-                    robot.preset + " (" + std::to_string(c.drive_heartbeat_ms + 1) + " to " +
-                    std::to_string(hi) + " ms)",
-                dt.raw());
+    dt.expected(
+        "more than one drive_heartbeat_ms period and at most three less two control "
+        "periods of " +
+            robot.preset + " (" + std::to_string(c.drive_heartbeat_ms + 1) + " to " +
+            std::to_string(hi) + " ms)",
+        dt.raw());
   }
   // 0x1016's consumer time is 16 bits of milliseconds; at or under one period of the master's
   // heartbeat the drives would stop on jitter.

@@ -98,8 +98,9 @@ void CanopenWheelDrives::read(WheelFeedbackSet& out) const {
     const cia402::DriveUnits& u = cfg_.drive[i].units;
     WheelFeedback& w = out.wheel[i];
     w.stamp_ns = d.stamp_ns;
-    w.velocity_radps = static_cast<float>(cia402::to_wheel_radps(d.velocity_counts, u));
-    w.position_rad = d.position.wheel_rad(u);
+    const double sign = cfg_.drive[i].inverted ? -1.0 : 1.0;
+    w.velocity_radps = static_cast<float>(sign * cia402::to_wheel_radps(d.velocity_counts, u));
+    w.position_rad = sign * d.position.wheel_rad(u);
     w.fault = DriveFault::None;
     const State s = d.sw_heard ? cia402::decode_statusword(d.statusword) : State::Unknown;
     // A raw CiA 301 / 402 code: the firmware compares it with None and logs the number.
@@ -300,7 +301,10 @@ bool CanopenWheelDrives::exchange_pdos(TimeNs now) {
     }
     const bool run = goal == Goal::Enabled && d.psm.state() == State::OperationEnabled;
     const std::int32_t target =
-        run ? cia402::to_counts_per_s(d.target_radps, cfg_.drive[i].units) : 0;
+        run ? cia402::to_counts_per_s(
+                  cfg_.drive[i].inverted ? -double(d.target_radps) : double(d.target_radps),
+                  cfg_.drive[i].units)
+            : 0;
     if (!send(rpdo1(cfg_.drive[i].node, cw, target), now)) return false;
   }
   if (!send(sync_frame(), now)) return false;

@@ -106,8 +106,8 @@ bool Hardware::open(const loader::ControllerSpec& spec, const fw::FirmwareConfig
       error = "--can-log: can.interface is none (" + spec.source_path + "): no bus to log";
       return false;
     }
-    null_drives = std::make_unique<hal::NullWheelDrives>(
-        fw::DriveKinematics(fw.drive).wheel_count());
+    null_drives =
+        std::make_unique<hal::NullWheelDrives>(fw::DriveKinematics(fw.drive).wheel_count());
   } else {
     hal::SocketCanBus::Config cc;
     cc.iface = spec.can.interface;
@@ -191,8 +191,7 @@ std::string Hardware::describe() const {
     s = std::to_string(can_drives->count()) + " CiA 402 drives on " + socket->config().iface;
     if (tap) s += " (logged)";
   } else {
-    s = "no CAN bus (can.interface none): " + std::to_string(null_drives->count()) +
-        " null drives";
+    s = "no CAN bus (can.interface none): " + std::to_string(null_drives->count()) + " null drives";
   }
   s += lidar ? "; lidar SCIP 2.0" : "; no lidar";
   s += camera_link ? "; camera shared memory" : "; no camera";

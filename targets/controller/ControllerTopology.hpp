@@ -85,8 +85,8 @@ struct Hardware {
 // other.
 struct ControllerTopology {
   // The wired robot, or nullptr with `error` naming the field or task that is wrong.
-  static std::unique_ptr<ControllerTopology> create(const fw::FirmwareConfig& config,
-                                                    Hardware& hw, fw::Status& error);
+  static std::unique_ptr<ControllerTopology> create(const fw::FirmwareConfig& config, Hardware& hw,
+                                                    fw::Status& error);
   ControllerTopology(const fw::FirmwareConfig& config, Hardware& hw);
   ControllerTopology(const ControllerTopology&) = delete;
   ControllerTopology& operator=(const ControllerTopology&) = delete;
@@ -104,7 +104,7 @@ struct ControllerTopology {
   fw::StatusReporter reporter;
   fw::TripleBuffer<LoopFigures> loop_figures;  // published by the loop on SIGUSR1
   LoopReportPrinter loop_report;
-  CanLogFile can_log;  // --can-log: opened by main when asked
+  CanLogFile can_log;            // --can-log: opened by main when asked
   fw::EventLog<32> slow_events;  // written by the slow thread only; read after it stopped
   fw::SlowRateGroup slow;
   hal::PeriodicThread slow_thread;

@@ -14,8 +14,8 @@
 namespace carril::controller {
 
 struct LoopFigures {
-  std::uint64_t periods = 0;           // loop periods run
-  std::uint64_t missed_deadlines = 0;  // periods lost to overruns
+  std::uint64_t periods = 0;                                          // loop periods run
+  std::uint64_t missed_deadlines = 0;                                 // periods lost to overruns
   double wake_p50_us = 0, wake_p99_us = 0, wake_max_us = 0;           // wake latency [us]
   double compute_p50_us = 0, compute_p99_us = 0, compute_max_us = 0;  // tick compute [us]
 };
@@ -26,9 +26,8 @@ inline void format_loop_figures(const LoopFigures& f, char* buf, std::size_t n) 
                 "loop: periods %llu, missed deadlines %llu; wake latency p50 %.0f us, p99 %.0f "
                 "us, max %.0f us; tick compute p50 %.1f us, p99 %.1f us, max %.1f us",
                 static_cast<unsigned long long>(f.periods),
-                static_cast<unsigned long long>(f.missed_deadlines), f.wake_p50_us,
-                f.wake_p99_us, f.wake_max_us, f.compute_p50_us, f.compute_p99_us,
-                f.compute_max_us);
+                static_cast<unsigned long long>(f.missed_deadlines), f.wake_p50_us, f.wake_p99_us,
+                f.wake_max_us, f.compute_p50_us, f.compute_p99_us, f.compute_max_us);
 }
 
 // Fills LoopFigures from the loop's histograms (the loop thread, between ticks).

@@ -89,8 +89,8 @@ struct Options {
   const char* controller = nullptr;  // --controller FILE
   const char* mission = nullptr;     // --mission FILE
   const char* can_log = nullptr;     // --can-log FILE (optional)
-  const char* tuning = nullptr;   // --tuning FILE (optional)
-  std::uint64_t ticks = 0;        // 0: until a signal
+  const char* tuning = nullptr;      // --tuning FILE (optional)
+  std::uint64_t ticks = 0;           // 0: until a signal
   bool help = false;
 };
 
@@ -106,12 +106,8 @@ bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
     const char** file;  // a file option's value, or nullptr for --ticks
   };
   const Valued options[] = {
-      {"--robot", &opt.robot},
-      {"--controller", &opt.controller},
-      {"--mission", &opt.mission},
-      {"--can-log", &opt.can_log},
-      {"--tuning", &opt.tuning},
-      {"--ticks", nullptr},
+      {"--robot", &opt.robot},     {"--controller", &opt.controller}, {"--mission", &opt.mission},
+      {"--can-log", &opt.can_log}, {"--tuning", &opt.tuning},         {"--ticks", nullptr},
   };
   bool have_ticks = false;
   for (int i = 1; i < argc; ++i) {
@@ -173,7 +169,9 @@ bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
   }
   if (opt.robot == nullptr || opt.controller == nullptr || opt.mission == nullptr) {
     err.why = "missing required option";
-    err.arg = opt.robot == nullptr ? "--robot" : opt.controller == nullptr ? "--controller" : "--mission";
+    err.arg = opt.robot == nullptr        ? "--robot"
+              : opt.controller == nullptr ? "--controller"
+                                          : "--mission";
     return false;
   }
   return true;
@@ -283,8 +281,6 @@ void print_events(Controller& ctl, carril::hal::TimeNs t0_ns) {
   }
 }
 
-}  // namespace
-
 // The CAN side's counters and the master's last fault (after the loop stopped).
 void print_can(const carril::controller::Hardware& hw) {
   if (!hw.can_drives) return;
@@ -317,7 +313,6 @@ void print_can(const carril::controller::Hardware& hw) {
                 static_cast<unsigned long long>(hw.tap->dropped()));
   }
 }
-
 
 }  // namespace
 
@@ -487,7 +482,13 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(tel.ticks));
   }
   print_telemetry(all, loop);
-  t.loop_report.run();  // the final figures, printed here (the slow thread has stopped)
+  {
+    // The final figures, printed here with the rest (the slow thread has stopped).
+    char line[256];
+    t.loop_figures.fetch();
+    carril::controller::format_loop_figures(t.loop_figures.value(), line, sizeof line);
+    std::printf("%s\n", line);
+  }
   print_slow_group(t);
   print_can(*hw);
   print_events(t.firmware.controller, t0_ns);

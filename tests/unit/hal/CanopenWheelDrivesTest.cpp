@@ -77,6 +77,22 @@ TEST(CanopenWheelDrives, VelocityReachesTheBusInCountsPerSecondAndComesBackInRad
   for (const Slave::Rpdo& p : b.slave(2).rpdos) EXPECT_EQ(p.cw & 0x0100, 0) << "halt bit set";
 }
 
+TEST(CanopenWheelDrives, AnInvertedDriveGetsNegatedSpeedsAndReportsWheelSpeeds) {
+  CanopenConfig cfg = Bench::default_config();
+  cfg.drive[1].inverted = true;  // the right-hand motor mounted mirrored
+  Bench b(cfg);
+  ASSERT_TRUE(b.up_and_enabled()) << b.drives().bring_up_result().what;
+  const float sp[2] = {1.0F, 1.0F};  // both wheels forward
+  b.drives().set_velocity(sp, 2);
+  b.ticks(3);
+  EXPECT_EQ(b.slave(2).rpdos.back().target, 6519);
+  EXPECT_EQ(b.slave(3).rpdos.back().target, -6519);  // the mirrored motor turns backwards
+  b.ticks(100);
+  EXPECT_NEAR(b.feedback(0).velocity_radps, 1.0, 1e-3);
+  EXPECT_NEAR(b.feedback(1).velocity_radps, 1.0, 1e-3);  // ... and the wheel forwards
+  EXPECT_NEAR(b.feedback(1).position_rad, 1.0, 0.03);
+}
+
 TEST(CanopenWheelDrives, OneSyncAndOneRpdoPerDrivePerPeriodAndTheMasterHeartbeatAtItsRate) {
   Bench b;
   ASSERT_TRUE(b.drives().init().ok);
