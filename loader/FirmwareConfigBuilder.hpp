@@ -1,7 +1,7 @@
 #pragma once
 // The one mapping from a robot description, a mission and optional component tuning to the
 // firmware's configuration, used by the simulator (carril_sim) and the robot target
-// (carril_robot) alike. Never throws.
+// (carril_controller) alike. Never throws.
 #include <string>
 
 #include "firmware/app/FirmwareConfig.hpp"
