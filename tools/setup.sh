@@ -12,7 +12,7 @@ packages=(
   # Debian's arm64 libc and libstdc++ as its dependencies) for the cross build and for qemu.
   # Not libyaml-cpp-dev:arm64, which would replace the host's libyaml-cpp-dev.
   libyaml-cpp0.7:arm64
-  can-utils user-mode-linux kmod
+  can-utils user-mode-linux kmod iproute2 # CAN HIL: a real kernel with vcan (tools/uml)
   rt-tests
   clang libclang-rt-14-dev # libclang-rt-14-dev holds libFuzzer (-fsanitize=fuzzer)
   slurm-wlm munge
