@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Send throughput on a real kernel's vcan0, inside one user-mode-linux boot: can-utils'
 # `cangen vcan0 -g 0 -n N` against carril's SocketCanBus (carril_can_throughput -n N), R runs
-# each, alternating, both timed the same way (start-up taken off); prints every run, the medians and the ratio carril / cangen (goal: >= 1).
+# each, alternating, both timed the same way (start-up taken off); prints every run, the
+# medians and the ratio carril / cangen (goal: >= 1).
 # Exit 77 when user-mode-linux cannot start (tools/uml/uml_run.sh says why).
 # Usage: tools/uml/bench_vcan.sh [--build DIR] [-n FRAMES] [--runs R]
 #   --build DIR  the build tree holding bench/carril_can_throughput (default build/host)
@@ -14,7 +15,7 @@ while [ $# -gt 0 ]; do
     -n) n=${2:?}; shift 2 ;;
     --runs) runs=${2:?}; shift 2 ;;
     --inside) inside=1; shift ;;
-    *) sed -n '2,7s/^# \{0,1\}//p' "$0" >&2; exit 2 ;;
+    *) sed -n '2,8s/^# \{0,1\}//p' "$0" >&2; exit 2 ;;
   esac
 done
 bin=$(cd "$build" 2>/dev/null && pwd)/bench/carril_can_throughput

@@ -16,7 +16,7 @@ set -uo pipefail
 
 vcan=1 timeout_s=300 mem=256M verbose=0
 usage() {
-  sed -n 's/^# \{0,1\}//; 9,13p' "$0" >&2
+  sed -n '8,15s/^# \{0,1\}//p' "$0" >&2
   exit 2
 }
 while [ $# -gt 0 ]; do
@@ -130,7 +130,7 @@ wait "$uml_pid"
 uml_pid=
 exec 2>&3 3>&-
 
-console_tail() { tail -n "${1:-15}" "$work/console" | sed 's/^/  uml| /' >&2; }
+console_tail() { tail -n 15 "$work/console" | sed 's/^/  uml| /' >&2; }
 [ $verbose -eq 1 ] && sed 's/^/  uml| /' "$work/console" >&2
 if [ ! -e "$work/booted" ] && [ $timed_out -eq 0 ]; then
   reason=$(grep -v -E '^\s*$' "$work/console" | tail -n 1)

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <linux/can.h>
 #include <linux/can/error.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -101,6 +102,16 @@ std::unique_ptr<SocketCanBus> open_vcan(std::string& why, bool own = false) {
   return std::move(r.bus);
 }
 
+// The kernel delivers a vcan frame from its softirq, which a loaded machine may defer past the
+// sender's return: wait up to timeout_ms [ms] for a frame rather than expect it at once.
+bool wait_receive(SocketCanBus& bus, CanFrame& out, int timeout_ms = 1000) {
+  for (;;) {
+    if (bus.receive(out)) return true;
+    pollfd p{bus.fd(), POLLIN, 0};
+    if (::poll(&p, 1, timeout_ms) <= 0) return false;
+  }
+}
+
 #define OPEN_VCAN_OR_SKIP(var, ...)               \
   std::string var##_why;                          \
   auto var = open_vcan(var##_why, ##__VA_ARGS__); \
@@ -119,20 +130,20 @@ TEST(SocketCanBusTest, VcanFramesGoFromOneSocketToAnother) {
   ASSERT_TRUE(a->send(ext));
   ASSERT_TRUE(a->send(rtr));
   CanFrame got;
-  ASSERT_TRUE(b->receive(got));
+  ASSERT_TRUE(wait_receive(*b, got));
   EXPECT_EQ(got.id, 0x181U);
   EXPECT_FALSE(got.extended);
   EXPECT_EQ(got.len, 6);
   EXPECT_EQ(got.data[5], 8);
-  ASSERT_TRUE(b->receive(got));
+  ASSERT_TRUE(wait_receive(*b, got));
   EXPECT_EQ(got.id, 0x1ABCDEF0U);
   EXPECT_TRUE(got.extended);
   EXPECT_EQ(got.data[7], 16);
-  ASSERT_TRUE(b->receive(got));
+  ASSERT_TRUE(wait_receive(*b, got));
   EXPECT_EQ(got.id, 0x701U);
   EXPECT_TRUE(got.rtr);
   EXPECT_EQ(got.len, 1);
-  EXPECT_FALSE(b->receive(got));
+  EXPECT_FALSE(wait_receive(*b, got, 50));
   EXPECT_EQ(a->counters().tx_frames, 3U);
   EXPECT_EQ(b->counters().rx_frames, 3U);
   EXPECT_EQ(a->counters().tx_dropped, 0U);
@@ -143,11 +154,11 @@ TEST(SocketCanBusTest, VcanOwnFramesOnlyWhenAsked) {
   OPEN_VCAN_OR_SKIP(echo, true);
   CanFrame got;
   ASSERT_TRUE(quiet->send(frame(0x201)));
-  EXPECT_FALSE(quiet->receive(got));  // default: not its own
-  ASSERT_TRUE(echo->receive(got));    // another socket's frame
+  ASSERT_TRUE(wait_receive(*echo, got));        // another socket's frame
+  EXPECT_FALSE(wait_receive(*quiet, got, 50));  // default: not its own
   EXPECT_EQ(got.id, 0x201U);
   ASSERT_TRUE(echo->send(frame(0x202)));
-  ASSERT_TRUE(echo->receive(got));  // receive_own: its own too
+  ASSERT_TRUE(wait_receive(*echo, got));  // receive_own: its own too
   EXPECT_EQ(got.id, 0x202U);
 }
 
@@ -170,12 +181,12 @@ TEST(SocketCanBusTest, VcanReceiveTakesOneFramePerCall) {
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(a->send(frame(0x100 + std::uint32_t(i))));
   CanFrame got;
   for (int i = 0; i < 3; ++i) {  // a tick that reads at most 3
-    ASSERT_TRUE(b->receive(got));
+    ASSERT_TRUE(wait_receive(*b, got));
     EXPECT_EQ(got.id, 0x100U + std::uint32_t(i));
   }
   EXPECT_EQ(b->counters().rx_frames, 3U);
   int rest = 0;
-  while (b->receive(got)) ++rest;
+  while (wait_receive(*b, got, 200)) ++rest;
   EXPECT_EQ(rest, 7);
 }
 
@@ -203,7 +214,7 @@ TEST(SocketCanBusTest, VcanErrorFramesAreMappedAndCounted) {
   cf.data[2] = CAN_ERR_PROT_BIT;
   ASSERT_EQ(::write(a->fd(), &cf, sizeof cf), ssize_t(sizeof cf));
   CanFrame got;
-  ASSERT_TRUE(b->receive(got));
+  ASSERT_TRUE(wait_receive(*b, got));
   EXPECT_TRUE(got.error);
   EXPECT_EQ(got.id, kCanErrBusOff | kCanErrProtocol);
   EXPECT_EQ(got.len, 8);
@@ -221,11 +232,11 @@ TEST(SocketCanBusTest, VcanReceiveQueueOverrunIsCounted) {
   for (int i = 0; i < 200; ++i) ASSERT_TRUE(a->send(frame(0x300)));
   CanFrame got;
   int n = 0;
-  while (b->receive(got)) ++n;
+  while (wait_receive(*b, got, 200)) ++n;
   EXPECT_GT(n, 0);
   // The kernel tells the drop total with the next frame queued after the drops.
   ASSERT_TRUE(a->send(frame(0x301)));
-  ASSERT_TRUE(b->receive(got));
+  ASSERT_TRUE(wait_receive(*b, got));
   EXPECT_EQ(got.id, 0x301U);
   EXPECT_EQ(std::uint64_t(n) + b->counters().rx_dropped, 200U)
       << n << " received, " << b->counters().rx_dropped << " dropped";
@@ -257,7 +268,7 @@ TEST(SocketCanBusTest, VcanInterfaceDownIsReportedAndReopenRecovers) {
   ASSERT_TRUE(a->reopen()) << a->error();
   EXPECT_FALSE(a->link_down());
   ASSERT_TRUE(a->send(frame(0x183)));
-  ASSERT_TRUE(b->receive(got));  // b's socket works again once the link is up
+  ASSERT_TRUE(wait_receive(*b, got));  // b's socket works again once the link is up
   EXPECT_EQ(got.id, 0x183U);
   EXPECT_FALSE(b->link_down());
 }
