@@ -340,19 +340,18 @@ CanopenWheelDrives::BringUp CanopenWheelDrives::poll_power(TimeNs now) {
   }
   bool at_goal = true;
   for (int i = 0; i < cfg_.wheels; ++i) at_goal = at_goal && drive_[i].psm.at_goal();
-  if (phase_ == Phase::Enable) {
-    // Its timeout is check_faults()' enable timeout, which latches and names the state.
-    if (at_goal) {
-      goal_ = Goal::Disabled;
-      phase_ = Phase::Disable;
-      phase_since_ns_ = now;
-    }
+  if (at_goal && phase_ == Phase::Enable) {
+    goal_ = Goal::Disabled;
+    phase_ = Phase::Disable;
+    phase_since_ns_ = now;
     return BringUp::Running;
   }
   if (at_goal) {
     phase_ = Phase::Ready;
     return BringUp::Done;
   }
+  // While enabling, check_faults()' enable timeout usually fires first (same message); this
+  // bound ends both phases regardless.
   if (now - phase_since_ns_ <= cfg_.enable_timeout_ns) return BringUp::Running;
   char t[24];
   for (int i = 0; i < cfg_.wheels; ++i) {

@@ -202,6 +202,34 @@ TEST_F(CanopenFaults, BusOffStopsEverythingProbesWithBackoffAndResumesOnlyWhenRe
   EXPECT_EQ(b.slave(2).rpdos.back().target, 13038);
 }
 
+TEST(CanopenBusOff, AfterAShortBusOffResetWaitsUntilTheDrivesAreHeardAgain) {
+  CanopenConfig c = Bench::default_config();
+  c.backoff_min_ns = 20 * kMs;  // back well within the consumer time: no drive is lost
+  Bench b(c);
+  ASSERT_TRUE(b.up_and_enabled());
+  b.bus().force_bus_off(0);
+  b.slave(2).dead = b.slave(3).dead = true;  // nothing heard from them meanwhile
+  b.tick();
+  ASSERT_TRUE(b.drives().bus_down());
+  b.bus().restart(0);
+  for (int k = 0; k < 30 && b.drives().bus_down(); ++k) b.tick();
+  ASSERT_FALSE(b.drives().bus_down());
+  EXPECT_EQ(b.drives().counters().heartbeat_losses, 0U);
+  b.drives().reset_faults();  // the bus is back but no drive was heard since: latches stay
+  b.drives().enable();
+  b.slave(2).dead = b.slave(3).dead = false;
+  b.ticks(2);
+  EXPECT_EQ(b.feedback(0).state, DriveState::Fault);
+  EXPECT_EQ(b.feedback(1).state, DriveState::Fault);
+  EXPECT_EQ(b.slave(2).rpdos.back().target, 0);
+  b.ticks(10);
+  b.drives().reset_faults();  // heard since: cleared
+  b.drives().enable();
+  b.ticks(10);
+  EXPECT_EQ(b.feedback(0).state, DriveState::Enabled);
+  EXPECT_EQ(b.feedback(1).state, DriveState::Enabled);
+}
+
 TEST_F(CanopenFaults, AnInterfaceThatRefusesFramesIsTreatedAsBusOff) {
   b.master_port().down = true;
   b.tick();
