@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "host_sim/app/FpTraps.hpp"
+#include "host_sim/app/HilMain.hpp"
 #include "host_sim/app/LiveView.hpp"
 #include "host_sim/app/SimRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
@@ -92,6 +93,8 @@ struct Options {
   carril::sim::ScenarioOverrides overrides;
   std::optional<std::uint64_t> seed;  // the scenario's when absent
   bool realtime = false, view = false, quiet = false;
+  bool hil = false;  // --hil: the world for an external controller (HilMain.hpp)
+  carril::sim::HilOptions hil_opt;
 };
 
 // Parses the command line into `o`. Returns the exit status when carril_sim should stop now
@@ -118,11 +121,39 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& o) {
   cli.add_flag("--realtime", o.realtime, "pace the run to wall-clock time");
   cli.add_flag("--view", o.view, "open a live window: top view and camera image");
   cli.add_flag("--quiet", o.quiet, "print only the final summary line");
+  // Hardware in the loop (docs/hil.md).
+  cli.add_flag("--hil", o.hil,
+               "hardware in the loop: no firmware here; emulated CiA 402 drives on --can, the "
+               "lidar over SCIP 2.0, camera and IMU in shared memory, in real time");
+  cli.add_option("--can", o.hil_opt.can_iface, "SocketCAN interface of the drives (--hil)");
+  cli.add_option("--controller", o.hil_opt.controller_path,
+                 "the controller file carril_controller uses: drive node ids and units (--hil)");
+  cli.add_option("--can-log", o.hil_opt.can_log,
+                 "every CAN frame on the bus, in candump -l format (--hil)");
+  cli.add_option("--scip-port", o.hil_opt.scip_port,
+                 "TCP port of the SCIP 2.0 lidar on 127.0.0.1, 0 none (--hil; default 10940)");
+  cli.add_option("--shm", o.hil_opt.shm,
+                 "shared memory of camera and IMU, \"\" none (--hil; default /carril_sensors)");
+  cli.add_option("--duration", o.hil_opt.duration_s,
+                 "seconds to run instead of the scenario's duration_s (--hil)");
+  cli.add_option("--inject", o.hil_opt.inject,
+                 "T:DRIVE:WHAT, a fault for the emulated drives at T s (--hil; repeatable): "
+                 "heartbeat_silence, bus_silence, refuse_enable, fault:0xCODE, corrupt:N, "
+                 "unknown:N; DRIVE a wheel index or all");
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = cli.exit(e);
     return rc == 0 ? 0 : 2;
+  }
+  if (o.hil && o.hil_opt.can_iface.empty()) {
+    std::fprintf(stderr, "carril_sim: --hil needs --can IFACE\n");
+    return 2;
+  }
+  if (!o.hil && (!o.hil_opt.can_iface.empty() || !o.hil_opt.inject.empty() ||
+                 !o.hil_opt.can_log.empty() || !o.hil_opt.controller_path.empty())) {
+    std::fprintf(stderr, "carril_sim: --can, --controller, --can-log and --inject need --hil\n");
+    return 2;
   }
   if (seed_opt->count()) {
     o.seed = parse_decimal_u64(seed_text);
@@ -228,6 +259,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (stopped_during_startup("checking the output directory")) return 1;
+
+  if (o.hil) {
+    return carril::sim::run_hil(scenario, seed, out_dir, o.hil_opt, g_signal);
+  }
 
   std::unique_ptr<carril::sim::LiveView> live;
   if (o.view) {

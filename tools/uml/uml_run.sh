@@ -97,6 +97,8 @@ export -p | grep -v -E '^declare -x (PWD|OLDPWD|SHLVL|_)=' >"$work/env"
   echo 'source "$w/env"'
   printf 'export PATH=%q:"$PATH"\n' "$sbin_path"
   echo 'mount -t proc proc /proc 2>/dev/null; mount -t sysfs sysfs /sys 2>/dev/null'
+  # POSIX shared memory (shm_open) lives in /dev/shm: the guest's own tmpfs, not the host's.
+  echo 'mkdir -p /dev/shm; mount -t tmpfs -o mode=1777 shm /dev/shm 2>"$w/mount.err" || fail "mount tmpfs on /dev/shm: $(cat "$w/mount.err")"'
   echo 'ip link set up lo'
   for f in "${mods[@]}"; do
     printf 'insmod %q 2>"$w/insmod.err" || fail "insmod %s: $(cat "$w/insmod.err")"\n' "$f" "$f"

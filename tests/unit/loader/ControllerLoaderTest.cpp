@@ -52,8 +52,8 @@ TEST(ControllerLoader, ShippedCamperoFile) {
   EXPECT_EQ(c.lidar.host, "192.168.0.10");
   EXPECT_EQ(c.lidar.port, 10940);
   EXPECT_EQ(c.camera.source, SensorSource::Shm);
-  EXPECT_EQ(c.camera.name, "/carril_camera");
-  EXPECT_EQ(c.imu.name, "/carril_imu");
+  EXPECT_EQ(c.camera.name, "/carril_sensors");
+  EXPECT_EQ(c.imu.name, "/carril_sensors");
   EXPECT_EQ(c.loop.priority, 50);
   EXPECT_TRUE(c.loop.mlockall);
   EXPECT_EQ(c.loop.overrun_limit, 5);
@@ -142,7 +142,7 @@ INSTANTIATE_TEST_SUITE_P(
                 ":24: sensors.lidar.port: expected an integer in [1, 65535], got 70000"},
         BadCase{"source: scip", "source: usb",
                 ":24: sensors.lidar.source: expected one of none, scip, got \"usb\""},
-        BadCase{"name: /carril_camera", "name: carril_camera",
+        BadCase{"name: /carril_sensors}\n  imu", "name: carril_sensors}\n  imu",
                 ":25: sensors.camera.name: expected a shared memory name"},
         BadCase{"priority: 50", "priority: 99",
                 ":27: loop.priority: expected an integer in [0, 98], got 99"},
