@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Checks what tools/uml/hil_inside.sh captured (issue 9 item 8) and prints the figures.
+
+Run A: one full lap through CiA 402 over vcan0; the PDO rate from the candump capture; after
+drive 1 (node 2) stops its heartbeat, FAULT and every wheel commanded to quick stop within 3
+heartbeat periods of its last heartbeat, and standing still after. Run B: after carril_controller
+is killed with SIGKILL, the emulated drives stop on their own.
+Usage: hil_check.py OUT_DIR HEARTBEAT_MS. Exit 0 when every check passes, 1 otherwise."""
+import json
+import re
+import sys
+
+out, hb_ms = sys.argv[1], float(sys.argv[2])
+failures = []
+
+
+def check(ok, what):
+    print(("ok    " if ok else "FAIL  ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def candump(path):
+    """(t [s], id, data bytes) per line of `candump -L`: "(1700000000.123456) vcan0 181#0F06..."."""
+    frames = []
+    for line in open(path):
+        m = re.match(r"\((\d+\.\d+)\) \S+ ([0-9A-Fa-f]+)#([0-9A-Fa-f]*)", line)
+        if m:
+            frames.append((float(m.group(1)), int(m.group(2), 16), bytes.fromhex(m.group(3))))
+    return frames
+
+
+def summary(name):
+    return json.load(open(f"{out}/{name}/hil_summary.json"))
+
+
+# Run A.
+a = summary("a")
+fa = candump(f"{out}/a.candump")
+print(f"run A: {len(fa)} frames captured, laps {a['laps']}, progress {a['progress']:.3f}, "
+      f"collisions {a['collisions']}, SYNC {a['sync_rate_hz']:.1f} Hz, TPDO {a['tpdo_rate_hz']:.1f} /s")
+check(a["laps"] >= 1, f"run A: at least one full lap of the circle over vcan0 (laps {a['laps']})")
+check(a["collisions"] == 0, f"run A: no collision ({a['collisions']})")
+syncs = [t for t, i, _ in fa if i == 0x080]
+check(len(syncs) > 100, f"run A: SYNCs captured ({len(syncs)})")
+inj_t = None
+silent_node = 2  # wheel index 1
+hb = [t for t, i, _ in fa if i == 0x700 + silent_node]
+# The silence: the last heartbeat of node 2 is followed by a gap far longer than its period.
+gaps = [(hb[k + 1] - hb[k], hb[k]) for k in range(len(hb) - 1)]
+last_hb = max((t for g, t in gaps if g > 10 * hb_ms / 1000.0), default=hb[-1] if hb else None)
+if hb and (not gaps or max(g for g, _ in gaps) <= 10 * hb_ms / 1000.0):
+    last_hb = hb[-1]
+if syncs and last_hb is not None:
+    # The PDO rate while the robot drove: from the first SYNC to the silence.
+    t0, t1 = syncs[0], last_hb
+    for node in range(1, 5):
+        n1 = sum(1 for t, i, _ in fa if i == 0x180 + node and t0 <= t <= t1)
+        n2 = sum(1 for t, i, _ in fa if i == 0x280 + node and t0 <= t <= t1)
+        rate1, rate2 = n1 / (t1 - t0), n2 / (t1 - t0)
+        print(f"run A: node {node}: TPDO1 {rate1:.1f} /s, TPDO2 {rate2:.1f} /s over {t1 - t0:.1f} s")
+        check(rate1 >= 90.0 and rate2 >= 90.0,
+              f"run A: node {node} PDO rate from the capture at least 90 /s at 100 Hz SYNC")
+    nsync = sum(1 for t in syncs if t0 <= t <= t1)
+    print(f"run A: SYNC {nsync / (t1 - t0):.1f} Hz from the capture")
+    # After the last heartbeat: the first period whose RPDO1s to every node carry quick stop
+    # (controlword 0x0002) and target 0.
+    stop_t = None
+    for t, i, d in fa:
+        if t <= last_hb or not (0x201 <= i <= 0x204) or len(d) != 6:
+            continue
+        cw = d[0] | (d[1] << 8)
+        if cw & 0x000F == 0x0002:
+            later = [x for x in fa if x[0] >= t and 0x201 <= x[1] <= 0x204 and len(x[2]) == 6]
+            nodes = set()
+            for x in later[:8]:
+                if (x[2][0] | (x[2][1] << 8)) & 0x000F == 0x0002:
+                    nodes.add(x[1])
+            if len(nodes) == 4:
+                stop_t = t
+                break
+    if stop_t is None:
+        check(False, "run A: quick stop sent to every drive after the heartbeat loss")
+    else:
+        dt_ms = (stop_t - last_hb) * 1000.0
+        print(f"run A: node 2's last heartbeat, then quick stop to all 4 drives after {dt_ms:.0f} ms "
+              f"(3 heartbeat periods = {3 * hb_ms:.0f} ms)")
+        check(dt_ms <= 3 * hb_ms, "run A: every wheel commanded to stop within 3 heartbeat periods")
+inj = [x for x in a["injections"] if "heartbeat_silence" in x["what"]]
+check(bool(inj) and inj[0]["applied"], "run A: the heartbeat silence was injected")
+if inj:
+    s = inj[0]["stopped_after_s"]
+    print(f"run A: every emulated wheel below 0.01 rad/s {s:.3f} s after the silence began")
+    check(0.0 <= s <= 3 * hb_ms / 1000.0 + 0.3,
+          "run A: wheels standing still within 3 heartbeat periods plus the quick-stop ramp")
+ctl_a = open(f"{out}/a.ctl.txt").read()
+check("fault drive_fault" in ctl_a, "run A: carril_controller latched drive_fault")
+m = re.search(r"canopen: last fault: (.*)", ctl_a)
+print("run A: controller: " + (m.group(1) if m else "(no last fault line)"))
+check(bool(m) and "node 2" in m.group(1), "run A: the fault names node 2")
+
+# Run B.
+b = summary("b")
+exits = open(f"{out}/exits").read()
+check("killed_b" in exits, "run B: carril_controller was killed with SIGKILL while following")
+lost = [d["master_heartbeat_lost"] for d in b["drives"]]
+stop_s = b["stopped_after_controller_lost_s"]
+print(f"run B: drives that saw the controller's heartbeat lost: {sum(lost)} of {len(lost)}; every "
+      f"wheel still {stop_s:.3f} s after the first saw it; states "
+      + ", ".join(d["state"] for d in b["drives"]))
+check(all(lost), "run B: every drive saw the controller's heartbeat lost")
+check(0.0 <= stop_s <= 0.5, "run B: the drives stopped on their own (within 0.5 s of noticing)")
+check(all(abs(d["wheel_radps"]) < 0.01 for d in b["drives"]), "run B: every wheel at rest at the end")
+
+print(f"hil_check: {len(failures)} failed")
+sys.exit(1 if failures else 0)
