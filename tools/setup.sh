@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libopencv-dev libbox2d-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   g++-aarch64-linux-gnu qemu-user
+  # GoogleTest's sources: the aarch64 cross build compiles them for its unit tests.
+  googletest
   # The robot target reads its configuration with yaml-cpp: the arm64 runtime library (with
   # Debian's arm64 libc and libstdc++ as its dependencies) for the cross build and for qemu.
   # Not libyaml-cpp-dev:arm64, which would replace the host's libyaml-cpp-dev.

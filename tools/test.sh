@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Every test: install what is missing, build the host preset, run all of CTest (unit, simulator,
-# scenario and CLI tests), then cross-build firmware/ and hal/ for aarch64 and run the robot
-# target's smoke test under qemu. Ends with one line: "carril: N passed, N failed".
+# scenario and CLI tests), then cross-build firmware/, hal/, loader/, the robot target and every
+# unit test that needs no simulator for aarch64 (GoogleTest built from Debian's sources) and run
+# them under qemu: one CTest per test binary, the allocation-counting test included, and the robot
+# target's smoke tests. Ends with one line: "carril: N passed, N failed".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
@@ -13,7 +15,7 @@ echo "== host: configure, build, test"
 cmake --preset host >/dev/null
 cmake --build --preset host -j"$jobs"
 ctest --preset host -j"$jobs" 2>&1 | tee "$logs/host.log" || rc=1
-echo "== aarch64: cross-build firmware, hal and the robot target; smoke test under qemu"
+echo "== aarch64: cross-build firmware, hal, loader, the robot target and the portable unit tests; run them under qemu"
 cmake --preset aarch64 >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
 ctest --preset aarch64 2>&1 | tee "$logs/aarch64.log" || rc=1
