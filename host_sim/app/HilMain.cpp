@@ -90,17 +90,24 @@ int run_hil(const Scenario& scenario, std::uint64_t seed, const std::string& out
   std::fflush(stdout);
 
   // Real time on absolute deadlines, one world step per period. The world's clock is the wall
-  // clock: a step that comes late is caught up at once (the drives' heartbeats and PDOs keep
-  // their rates as the controller sees them), up to kMaxCatchUp steps; beyond that the time is
-  // dropped and counted (the machine cannot keep up).
-  constexpr int kMaxCatchUp = 40;  // 0.2 s
-  timespec next{};
+  // clock: a step that comes late covers the time that went by (up to HilRun::kMaxStepS; more
+  // is dropped and counted), so the drives' heartbeats and PDOs keep their rates as the
+  // controller sees them even when this machine cannot keep the step rate.
+  timespec next{}, last{};
   clock_gettime(CLOCK_MONOTONIC, &next);
+  last = next;
   const long step_ns = static_cast<long>(HilRun::kStepS * 1e9);
   double next_status_s = 1.0;
-  std::uint64_t late = 0, dropped = 0;
+  std::uint64_t late = 0;
+  double dropped_s = 0.0;
   while (signal.load() == 0 && run->sim_time_s() < duration) {
-    run->step();
+    timespec now{};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    const double elapsed =
+        double(now.tv_sec - last.tv_sec) + double(now.tv_nsec - last.tv_nsec) * 1e-9;
+    last = now;
+    if (elapsed > HilRun::kMaxStepS) dropped_s += elapsed - HilRun::kMaxStepS;
+    run->step(elapsed);
     if (run->sim_time_s() >= next_status_s) {
       std::printf("%s\n", run->status_line().c_str());
       std::fflush(stdout);
@@ -108,7 +115,6 @@ int run_hil(const Scenario& scenario, std::uint64_t seed, const std::string& out
       next_status_s += 1.0;
     }
     advance(next, step_ns);
-    timespec now{};
     clock_gettime(CLOCK_MONOTONIC, &now);
     const long behind_ns =
         (now.tv_sec - next.tv_sec) * 1'000'000'000L + (now.tv_nsec - next.tv_nsec);
@@ -116,25 +122,20 @@ int run_hil(const Scenario& scenario, std::uint64_t seed, const std::string& out
       sleep_until(next);
     } else {
       ++late;
-      if (behind_ns > kMaxCatchUp * step_ns) {
-        const long skip = behind_ns / step_ns - kMaxCatchUp;
-        dropped += static_cast<std::uint64_t>(skip);
-        advance(next, skip * step_ns);
-      }
+      next = now;  // the next step a full period from now
     }
   }
   std::printf("%s\n", run->status_line().c_str());
   std::printf(
       "carril_sim: HIL ended after %.2f s (%s): laps %d, progress %.3f, collisions %d; frames "
       "from the controller %llu, to it %llu (refused %llu); SYNC %.1f Hz, TPDO %.1f /s; late "
-      "steps %llu, steps dropped %llu\n",
+      "steps %llu, time dropped %.2f s\n",
       run->sim_time_s(), signal.load() != 0 ? "signal" : "duration", run->metrics().laps(),
       run->metrics().progress(), run->metrics().collisions(),
       static_cast<unsigned long long>(run->frames_from_wire()),
       static_cast<unsigned long long>(run->frames_to_wire()),
       static_cast<unsigned long long>(run->wire_refused()), run->sync_rate_hz(),
-      run->tpdo_rate_hz(), static_cast<unsigned long long>(late),
-      static_cast<unsigned long long>(dropped));
+      run->tpdo_rate_hz(), static_cast<unsigned long long>(late), dropped_s);
   int rc = 0;
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);  // checked by prepare_output_dir already

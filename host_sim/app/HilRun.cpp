@@ -259,12 +259,13 @@ void HilRun::publish_sensors() {
   }
 }
 
-void HilRun::step() {
+void HilRun::step(double dt_s) {
+  dt_s = std::clamp(dt_s, 1e-4, kMaxStepS);
   apply_injections();
   bridge();
   const double t = sim_time_s();
   const hal::TimeNs t_ns = to_ns(t);
-  for (auto& d : drives_) d->step(t_ns, kStepS);
+  for (auto& d : drives_) d->step(t_ns, dt_s);
   bridge();
   // The wheels turn as the drives' motors do (a mirrored mounting, inverted in the controller
   // file, turns the wheel against the motor).
@@ -276,12 +277,12 @@ void HilRun::step() {
     target[i] = static_cast<float>(inverted ? -v : v);
   }
   world_.set_wheel_targets(target);
-  world_.step(kStepS);
+  world_.step(dt_s);
   for (const ContactStart& c : world_.take_new_contacts()) {
     (void)c;
     metrics_.add_collision();
   }
-  ++steps_;
+  t_s_ += dt_s;
   TickSample s;
   s.t_s = sim_time_s();
   s.pose = world_.pose();

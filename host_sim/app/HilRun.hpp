@@ -63,7 +63,8 @@ struct HilConfig {
 
 class HilRun {
  public:
-  static constexpr double kStepS = 0.005;  // one world step: drives, bridge, physics [s]
+  static constexpr double kStepS = 0.01;     // the nominal world step [s]
+  static constexpr double kMaxStepS = 0.03;  // the longest step physics takes at once [s]
 
   // `wire`: the bus to the controller; the run keeps a reference (and to `scenario`).
   HilRun(const Scenario& scenario, std::uint64_t seed, hal::CanBus& wire, const HilConfig& cfg);
@@ -73,10 +74,12 @@ class HilRun {
 
   // Starts the SCIP server and creates the shared memory. False with `error` naming which.
   bool open(std::string& error);
-  // One world step of kStepS: frames across the bridge, the drives, physics, sensors, metrics.
-  void step();
+  // One world step of dt_s (at most kMaxStepS; the caller passes the wall time that went by, so
+  // the world keeps the controller's time): frames across the bridge, the drives, physics,
+  // sensors, metrics.
+  void step(double dt_s = kStepS);
 
-  double sim_time_s() const { return double(steps_) * kStepS; }
+  double sim_time_s() const { return t_s_; }
   int wheels() const { return world_.wheel_count(); }
   const DriveEmulator& drive(int i) const { return *drives_[std::size_t(i)]; }
   const RunMetrics& metrics() const { return metrics_; }
@@ -121,7 +124,7 @@ class HilRun {
   std::unique_ptr<hal::LaserScan> scan_;
   std::vector<InjectionOutcome> outcomes_;
 
-  std::uint64_t steps_ = 0;
+  double t_s_ = 0.0;  // world time [s]
   double next_cam_s_ = 0.0, next_scan_s_ = 0.0, next_imu_s_ = 0.0;
   double first_sync_s_ = -1.0;
   double master_lost_at_s_ = -1.0;        // first drive that lost the controller's heartbeat

@@ -99,6 +99,24 @@ m = re.search(r"canopen: last fault: (.*)", ctl_a)
 print("run A: controller: " + (m.group(1) if m else "(no last fault line)"))
 check(bool(m) and "node 2" in m.group(1), "run A: the fault names node 2")
 
+# Both binaries' --can-log files: candump log lines, renamed from FILE.part when complete.
+def log_lines(path):
+    n = bad = 0
+    for line in open(path):
+        n += 1
+        if not re.match(r"\(\d+\.\d{6}\) vcan0 [0-9A-F]{3,8}#[0-9A-F]*$", line.strip()):
+            bad += 1
+    return n, bad
+
+
+for path in (f"{out}/b.sim.canlog", f"{out}/b.ctl.canlog.part"):
+    try:
+        n, bad = log_lines(path)
+        print(f"{path.split('/')[-1]}: {n} candump lines, {bad} malformed")
+        check(n > 1000 and bad == 0, f"--can-log {path.split('/')[-1]}: candump log lines")
+    except OSError as e:
+        check(False, f"--can-log {path}: {e}")
+
 # Run B.
 b = summary("b")
 exits = open(f"{out}/exits").read()

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Runs inside user-mode-linux (tools/uml/hil_test.sh starts it): carril_sim --hil and
-# carril_controller on vcan0, twice, capturing every frame with candump.
-#   run A: the circle for one lap, then drive 1's heartbeat goes silent (--inject);
-#   run B: the controller is killed with SIGKILL while the robot drives.
+# carril_controller on vcan0, twice.
+#   run A: the circle for LAP_S seconds (a lap), then drive 1's heartbeat goes silent
+#          (--inject); candump captures vcan0 from 6 s before the silence to the end.
+#   run B: the controller is killed with SIGKILL while the robot drives; both write --can-log
+#          (the controller's stays FILE.part: it was killed before it could complete it).
+# Every syscall traps to the host under user-mode-linux, so the capture is a window, not the run.
 # Usage: hil_inside.sh SIM CONTROLLER SOURCE_DIR OUT_DIR LAP_S
 set -uo pipefail
 sim=$1 ctl=$2 src=$3 out=$4 lap_s=${5:-45}
@@ -22,36 +25,38 @@ wait_for() {
   return 1
 }
 
-# Starts candump, the simulator and the controller for run NAME; sets dump, simpid, ctlpid.
-run() {
+# Starts the simulator for run NAME (DURATION s, more options after) and waits for its banner.
+start_sim() {
   local name=$1 duration=$2
   shift 2
-  candump -L vcan0 >"$out/$name.candump" &
-  dump=$!
   "$sim" --hil --can vcan0 --controller "$controller" --scenario scenarios/circle.yaml \
-    --out "$out/$name" --duration "$duration" --can-log "$out/$name.simlog" "$@" \
-    >"$out/$name.sim.txt" 2>&1 &
+    --out "$out/$name" --duration "$duration" "$@" >"$out/$name.sim.txt" 2>&1 &
   simpid=$!
+  sim_t0=$(date +%s.%N)
   wait_for "$out/$name.sim.txt" 'carril_sim: HIL:' 30 || echo "hil_inside: $name: no HIL banner" >&2
-  "$ctl" --robot "$robot" --controller "$controller" --mission "$mission" \
-    >"$out/$name.ctl.txt" 2>&1 &
-  ctlpid=$!
 }
 
-# Run A: a lap, then drive 1 drops its heartbeat.
-run a "$((lap_s + 8))" --inject "$lap_s:1:heartbeat_silence"
+# Run A.
+start_sim a "$((lap_s + 8))" --inject "$lap_s:1:heartbeat_silence"
+"$ctl" --robot "$robot" --controller "$controller" --mission "$mission" >"$out/a.ctl.txt" 2>&1 &
+ctlpid=$!
+sleep "$(awk -v t0="$sim_t0" -v l="$lap_s" -v now="$(date +%s.%N)" 'BEGIN { s = t0 + l - 6 - now; print (s > 0 ? s : 0) }')"
+candump -L vcan0 >"$out/a.candump" &
+dump=$!
 wait "$simpid"; echo "sim_a_exit $?" >>"$out/exits"
-kill -INT "$ctlpid" 2>/dev/null; wait "$ctlpid"; echo "ctl_a_exit $?" >>"$out/exits"
 kill "$dump" 2>/dev/null; wait "$dump" 2>/dev/null
+kill -INT "$ctlpid" 2>/dev/null; wait "$ctlpid"; echo "ctl_a_exit $?" >>"$out/exits"
 
 # Run B: the controller dies (SIGKILL) while the robot follows the tape.
-run b 30
+start_sim b 30 --can-log "$out/b.sim.canlog"
+"$ctl" --robot "$robot" --controller "$controller" --mission "$mission" \
+  --can-log "$out/b.ctl.canlog" >"$out/b.ctl.txt" 2>&1 &
+ctlpid=$!
 if wait_for "$out/b.ctl.txt" 'FOLLOW/track' 25; then
   sleep 4
   kill -KILL "$ctlpid"
-  echo "killed_b $(awk '{print $1}' /proc/uptime)" >>"$out/exits"
+  echo "killed_b" >>"$out/exits"
 fi
 wait "$ctlpid" 2>/dev/null; echo "ctl_b_exit $?" >>"$out/exits"
 wait "$simpid"; echo "sim_b_exit $?" >>"$out/exits"
-kill "$dump" 2>/dev/null; wait "$dump" 2>/dev/null
 exit 0

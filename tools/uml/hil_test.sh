@@ -9,7 +9,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 src=$(cd "$here/../.." && pwd)
 out=$(mktemp -d "${TMPDIR:-/tmp}/carril_hil.XXXXXX")
 trap 'rm -rf "$out"' EXIT
-bash "$here/uml_run.sh" --vcan 1 --timeout 400 -- bash "$here/hil_inside.sh" "$sim" "$ctl" "$src" \
+bash "$here/uml_run.sh" --vcan 1 --timeout 300 -- bash "$here/hil_inside.sh" "$sim" "$ctl" "$src" \
   "$out" "$lap_s"
 rc=$?
 [ $rc -eq 77 ] && exit 77
