@@ -33,8 +33,10 @@ int main(int argc, char** argv) {
       cfg.iface = argv[++i];
     } else if (std::strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
       n = std::strtol(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--batch") == 0 && i + 1 < argc) {
+      cfg.tx_batch = static_cast<int>(std::strtol(argv[++i], nullptr, 10));
     } else {
-      std::fprintf(stderr, "usage: %s [--iface vcan0] [-n FRAMES]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--iface vcan0] [-n FRAMES] [--batch N]\n", argv[0]);
       return 2;
     }
   }
@@ -63,6 +65,7 @@ int main(int argc, char** argv) {
       }
     }
   }
+  bus.flush();  // the last batch
   CanFrame sink;
   while (bus.backlog() > 0) bus.receive(sink);  // flushes what the kernel had no room for
   const double dt = now_s() - t0;

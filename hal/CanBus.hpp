@@ -45,6 +45,9 @@ class CanBus {
   virtual bool receive(CanFrame& out) = 0;
   // The port's counters since it was opened.
   virtual CanBusCounters counters() const = 0;
+  // Hands frames a batching transport holds to the wire (one system call for a period's
+  // frames); a transport that sends at once has nothing to do. Non-blocking.
+  virtual void flush() {}
 };
 
 }  // namespace carril::hal

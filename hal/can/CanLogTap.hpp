@@ -38,6 +38,8 @@ class CanLogTap final : public CanBus {
   bool receive(CanFrame& out) override;
   // The inner bus's counters.
   CanBusCounters counters() const override { return inner_.counters(); }
+  // The inner bus's batched frames go to the wire.
+  void flush() override { inner_.flush(); }
 
   // Consumer: takes the oldest record; false when none waits.
   bool pop(Record& out);

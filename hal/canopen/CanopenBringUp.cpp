@@ -182,6 +182,7 @@ DriveInitResult CanopenWheelDrives::init() {
 }
 
 void CanopenWheelDrives::start_bring_up(TimeNs now) {
+  const FlushOnExit flush{bus_};
   result_ = DriveInitResult::success();
   phase_ = Phase::Boot;
   phase_since_ns_ = now;
@@ -221,6 +222,7 @@ void CanopenWheelDrives::start_bring_up(TimeNs now) {
 }
 
 CanopenWheelDrives::BringUp CanopenWheelDrives::poll_bring_up(TimeNs now) {
+  const FlushOnExit flush{bus_};
   switch (phase_) {
     case Phase::Idle:
       return fail(-1, "bring-up not started (start_bring_up)");

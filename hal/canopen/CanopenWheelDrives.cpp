@@ -79,6 +79,8 @@ void CanopenWheelDrives::set_velocity(const float* radps, int n) {
 }
 
 void CanopenWheelDrives::sync() {
+  // The period's frames leave together: one system call on a batching transport.
+  const FlushOnExit flush{bus_};
   if (phase_ != Phase::Ready) return;  // nothing brought up: nothing to drive
   const TimeNs now = clock_.now_ns();
   receive(now);

@@ -87,6 +87,12 @@ struct CanopenCounters {
   std::uint64_t syncs = 0;             // SYNC frames sent
 };
 
+// Hands what was sent to a batching transport to the wire at the end of a scope.
+struct FlushOnExit {
+  CanBus& bus;
+  ~FlushOnExit() { bus.flush(); }
+};
+
 class CanopenWheelDrives final : public WheelDrives {
  public:
   static constexpr int kMaxText = 160;

@@ -97,7 +97,13 @@ std::string check_interface(const std::string& iface) {
 
 }  // namespace
 
-SocketCanBus::SocketCanBus(const Config& cfg) : cfg_(cfg), backlog_(cfg.tx_backlog) {}
+SocketCanBus::SocketCanBus(const Config& cfg) : cfg_(cfg), backlog_(cfg.tx_backlog) {
+  if (cfg_.tx_batch > 1) {
+    batch_ = std::make_unique<can_frame[]>(std::size_t(cfg_.tx_batch));
+    batch_msgs_ = std::make_unique<mmsghdr[]>(std::size_t(cfg_.tx_batch));
+    batch_iov_ = std::make_unique<iovec[]>(std::size_t(cfg_.tx_batch));
+  }
+}
 
 SocketCanBus::~SocketCanBus() {
   if (fd_ >= 0) ::close(fd_);
@@ -105,8 +111,9 @@ SocketCanBus::~SocketCanBus() {
 
 SocketCanBus::OpenResult SocketCanBus::open(const Config& cfg) {
   OpenResult r;
-  if (cfg.tx_backlog < 1 || cfg.send_deadline_ns <= 0) {
-    r.error = quoted(cfg.iface) + ": tx_backlog must be at least 1 frame and send_deadline_ns > 0";
+  if (cfg.tx_backlog < 1 || cfg.send_deadline_ns <= 0 || cfg.tx_batch < 1 || cfg.tx_batch > 1024) {
+    r.error = quoted(cfg.iface) +
+              ": tx_backlog must be at least 1 frame, tx_batch 1 to 1024 and send_deadline_ns > 0";
     return r;
   }
   std::unique_ptr<SocketCanBus> bus(new SocketCanBus(cfg));
@@ -213,6 +220,16 @@ bool SocketCanBus::send(const CanFrame& frame) {
     return false;
   }
   if (!backlog_.empty()) flush_backlog();
+  if (batch_ && backlog_.empty()) {
+    // Gathered for one system call; a full batch goes at once.
+    can_frame& cf = batch_[std::size_t(batch_n_++)];
+    cf = can_frame{};
+    cf.can_id = frame.id | (frame.extended ? CAN_EFF_FLAG : 0U) | (frame.rtr ? CAN_RTR_FLAG : 0U);
+    cf.len = frame.len;
+    if (!frame.rtr) std::memcpy(cf.data, frame.data, frame.len);
+    if (batch_n_ == cfg_.tx_batch) flush();
+    return true;
+  }
   if (backlog_.empty()) {
     switch (write_frame(frame)) {
       case Io::Ok:
@@ -233,7 +250,45 @@ bool SocketCanBus::send(const CanFrame& frame) {
   return true;
 }
 
+void SocketCanBus::flush() {
+  if (batch_n_ == 0) return;
+  const int n = batch_n_;
+  batch_n_ = 0;
+  int sent = 0;
+  if (fd_ >= 0) {
+    for (int i = 0; i < n; ++i) {
+      batch_iov_[std::size_t(i)] = iovec{&batch_[std::size_t(i)], sizeof(can_frame)};
+      batch_msgs_[std::size_t(i)] = mmsghdr{};
+      batch_msgs_[std::size_t(i)].msg_hdr.msg_iov = &batch_iov_[std::size_t(i)];
+      batch_msgs_[std::size_t(i)].msg_hdr.msg_iovlen = 1;
+    }
+    const int r = ::sendmmsg(fd_, batch_msgs_.get(), static_cast<unsigned>(n), MSG_DONTWAIT);
+    if (r > 0) {
+      sent = r;
+      counters_.tx_frames += std::uint64_t(r);
+      link_down_ = false;
+    } else if (r < 0 && (errno == ENETDOWN || errno == ENODEV || errno == ENXIO)) {
+      note_down();
+      counters_.tx_dropped += std::uint64_t(n);
+      return;
+    }
+  }
+  // What the kernel had no room for waits in the backlog, in order, under the deadline.
+  const TimeNs t = sent < n ? now() : 0;
+  for (int i = sent; i < n; ++i) {
+    const can_frame& cf = batch_[std::size_t(i)];
+    CanFrame f;
+    f.extended = (cf.can_id & CAN_EFF_FLAG) != 0;
+    f.rtr = (cf.can_id & CAN_RTR_FLAG) != 0;
+    f.id = cf.can_id & (f.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
+    f.len = cf.len;
+    std::memcpy(f.data, cf.data, sizeof f.data);
+    if (fd_ < 0 || !backlog_.push(f, t)) ++counters_.tx_dropped;
+  }
+}
+
 bool SocketCanBus::receive(CanFrame& out) {
+  if (batch_n_ > 0) flush();  // a request waiting for its answer goes out first
   if (!backlog_.empty()) flush_backlog();
   if (fd_ < 0) return false;
   can_frame cf{};

@@ -10,6 +10,9 @@
 #include <memory>
 #include <string>
 
+#include <linux/can.h>
+#include <sys/socket.h>
+
 #include "hal/CanBus.hpp"
 #include "hal/Types.hpp"
 
@@ -50,7 +53,9 @@ class SocketCanBus final : public CanBus {
     int tx_backlog = 16;                   // frames held while the kernel queue is full
     TimeNs send_deadline_ns = 10'000'000;  // a held frame older than this is dropped [ns]
     bool receive_own = false;              // also receive our own frames (CAN_RAW_RECV_OWN_MSGS)
-    TimeNs (*now_ns)() = nullptr;          // time for the deadline [ns]; null: CLOCK_MONOTONIC
+    int tx_batch = 1;  // frames send() gathers for one sendmmsg at flush() (or when full, or at
+                       // the next receive()); 1: each frame is sent at once
+    TimeNs (*now_ns)() = nullptr;  // time for the deadline [ns]; null: CLOCK_MONOTONIC
   };
   // What open() gives: a bus, or a message naming the interface and what is wrong with it.
   struct OpenResult {
@@ -70,6 +75,9 @@ class SocketCanBus final : public CanBus {
   bool send(const CanFrame& frame) override;
   // rx_dropped (the socket's receive queue overran) is learned with the next frame received.
   bool receive(CanFrame& out) override;
+  // Sends the gathered frames (tx_batch > 1) with one sendmmsg; what the kernel has no room for
+  // waits in the backlog.
+  void flush() override;
   CanBusCounters counters() const override { return counters_; }
 
   // The interface went down or away (ENETDOWN, ENODEV) at the last send or receive; cleared by
@@ -102,6 +110,10 @@ class SocketCanBus final : public CanBus {
   Config cfg_;
   int fd_ = -1;
   CanTxBacklog backlog_;
+  std::unique_ptr<can_frame[]> batch_;  // tx_batch frames, taken at open
+  std::unique_ptr<mmsghdr[]> batch_msgs_;
+  std::unique_ptr<iovec[]> batch_iov_;
+  int batch_n_ = 0;
   CanBusCounters counters_{};
   bool link_down_ = false;
   std::uint64_t link_down_events_ = 0;

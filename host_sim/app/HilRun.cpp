@@ -197,6 +197,7 @@ void HilRun::bridge() {
       ++wire_refused_;
     }
   }
+  wire_.flush();
 }
 
 void HilRun::apply_injections() {

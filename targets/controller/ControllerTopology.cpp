@@ -112,6 +112,7 @@ bool Hardware::open(const loader::ControllerSpec& spec, const fw::FirmwareConfig
     hal::SocketCanBus::Config cc;
     cc.iface = spec.can.interface;
     cc.send_deadline_ns = period_ns(fw.rate_hz);  // a setpoint a period old is worse than none
+    cc.tx_batch = 32;  // a period's RPDOs, SYNC and heartbeat in one system call (flush())
     hal::SocketCanBus::OpenResult r = hal::SocketCanBus::open(cc);
     if (!r.bus) {
       error = spec.source_path + ": can.interface: " + r.error;

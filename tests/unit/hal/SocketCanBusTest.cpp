@@ -273,5 +273,39 @@ TEST(SocketCanBusTest, VcanInterfaceDownIsReportedAndReopenRecovers) {
   EXPECT_FALSE(b->link_down());
 }
 
+TEST(SocketCanBusTest, VcanBatchedFramesLeaveTogetherAtFlushInOrder) {
+  std::string why;
+  SocketCanBus::Config c;
+  c.iface = kVcan;
+  c.tx_batch = 8;
+  SocketCanBus::OpenResult ra = SocketCanBus::open(c);
+  if (!ra.bus) GTEST_SKIP() << ra.error << " (the vcan tests run in CTest hil_socketcan)";
+  OPEN_VCAN_OR_SKIP(b);
+  SocketCanBus& a = *ra.bus;
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(a.send(frame(0x200U + std::uint32_t(i), 2, 6)));
+  CanFrame got;
+  // Gathered, not sent: nothing on the bus before flush().
+  pollfd p{b->fd(), POLLIN, 0};
+  EXPECT_EQ(::poll(&p, 1, 50), 0);
+  EXPECT_EQ(a.counters().tx_frames, 0U);
+  a.flush();
+  EXPECT_EQ(a.counters().tx_frames, 5U);
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(wait_receive(*b, got)) << i;
+    EXPECT_EQ(got.id, 0x200U + std::uint32_t(i));
+  }
+  // A full batch goes at once; a receive() sends what is gathered (an SDO request waiting for
+  // its answer).
+  for (int i = 0; i < 8; ++i) ASSERT_TRUE(a.send(frame(0x300U + std::uint32_t(i), 1, 1)));
+  EXPECT_EQ(a.counters().tx_frames, 13U);
+  ASSERT_TRUE(a.send(frame(0x400, 1, 1)));
+  EXPECT_FALSE(a.receive(got));
+  EXPECT_EQ(a.counters().tx_frames, 14U);
+  for (int i = 0; i < 9; ++i) {
+    ASSERT_TRUE(wait_receive(*b, got)) << i;
+    EXPECT_EQ(got.id, i < 8 ? 0x300U + std::uint32_t(i) : 0x400U);
+  }
+}
+
 }  // namespace
 }  // namespace carril::hal
