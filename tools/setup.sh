@@ -19,6 +19,7 @@ packages=(
   clang libclang-rt-14-dev # libclang-rt-14-dev holds libFuzzer (-fsanitize=fuzzer)
   slurm-wlm munge
   python3
+  libboost-dev # Boost.Graph: the oracle of the wavefront planner's benchmark
 )
 missing=()
 for p in "${packages[@]}"; do
