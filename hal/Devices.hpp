@@ -3,6 +3,7 @@
 #include "hal/Camera.hpp"
 #include "hal/Clock.hpp"
 #include "hal/Imu.hpp"
+#include "hal/PointCloud.hpp"
 #include "hal/RangeScanner.hpp"
 #include "hal/WheelDrives.hpp"
 
@@ -14,6 +15,7 @@ struct Devices {
   Camera& camera;
   RangeScanner& scanner;
   Imu& imu;
+  PointCloudSensor* cloud = nullptr;  // a 3D lidar, where one is fitted
 };
 
 }  // namespace carril::hal

@@ -1,5 +1,6 @@
 #include "loader/MissionLoader.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 
@@ -36,6 +37,30 @@ void check_end_color(const Node& root, const MissionSpec& m) {
                  m.end_color_name);
 }
 
+// goto: the goal pose, the speed (as follow_line's), the local follower and unknown cells.
+void parse_goto(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                MissionSpec& mission) {
+  m.expect_map({"type", "goal", "speed_mps", "follower", "allow_unknown"});
+  const Node goal = m.at("goal");
+  goal.expect_map({"x", "y", "yaw_deg"});
+  mission.goal_x_m = goal.at("x").number(Range::closed(-1000.0, 1000.0));
+  mission.goal_y_m = goal.at("y").number(Range::closed(-1000.0, 1000.0));
+  mission.goal_yaw_deg = goal.at("yaw_deg").number(Range::closed(-360.0, 360.0));
+  if (auto f = m.get("follower")) mission.follower = f->one_of({"pure_pursuit", "vff"});
+  if (auto u = m.get("allow_unknown")) mission.allow_unknown = u->boolean();
+  const double max_speed = robot.limits.max_speed_mps;
+  if (auto n = m.get("speed_mps")) {
+    mission.speed_mps = n->number(Range::closed(0.01, 5.0));
+    if (mission.speed_mps > max_speed) {
+      n->expected("a number in (0, " + schema.speed_limit + " = " +
+                      strict::format_number(max_speed) + "]",
+                  n->raw());
+    }
+  } else {
+    mission.speed_mps = std::min(robot.cruise_speed_mps, max_speed);
+  }
+}
+
 }  // namespace
 
 Rgb parse_color(const Node& n, std::string* name_out) {
@@ -60,6 +85,11 @@ Rgb parse_color(const Node& n, std::string* name_out) {
 
 void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                    MissionSpec& mission) {
+  if (auto t = m.get("type"); t && t->yaml().IsScalar() && t->string() == "goto") {
+    mission.type = "goto";
+    parse_goto(m, robot, schema, mission);
+    return;
+  }
   if (schema.file) {
     m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps", "tape_preview_m",
                   "behavior", "strategy_gains"});
@@ -67,10 +97,10 @@ void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& s
     m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps"});
   }
   const Node type = m.at("type");
-  if (type.yaml().IsScalar() && (type.string() == "goto" || type.string() == "coverage")) {
-    type.expected("follow_line (" + type.string() + " is not supported yet)");
+  if (type.yaml().IsScalar() && type.string() == "coverage") {
+    type.expected("follow_line or goto (coverage is not supported yet)");
   }
-  mission.type = type.one_of({"follow_line"});
+  mission.type = type.one_of({"follow_line", "goto"});
   const Node strategy = m.at("strategy");
   mission.strategy = strategy.one_of({"line_priority", "marks", "pid"});
   if (mission.strategy == "line_priority" && robot.drive != DriveType::Mecanum) {

@@ -15,7 +15,7 @@ struct Rgb {
 };
 
 struct MissionSpec {
-  std::string type = "follow_line";  // follow_line
+  std::string type = "follow_line";  // follow_line | goto
   std::string strategy = "pid";      // line_priority | marks | pid
   Rgb line_color{255, 255, 255};
   std::string line_color_name = "white";  // name as written, or "[r, g, b]"
@@ -23,6 +23,13 @@ struct MissionSpec {
   std::string end_color_name = "yellow";
   double speed_mps =
       0.5;  // cruise speed; the robot's cruise_speed_mps when the file omits it [m/s]
+  // goto: the goal pose (a mission file: odometry frame, i.e. relative to where the robot
+  // starts; a scenario: world frame, converted by the simulator), the local follower, and
+  // whether the planner may cross cells never observed.
+  double goal_x_m = 0.0, goal_y_m = 0.0;  // [m]
+  double goal_yaw_deg = 0.0;              // [deg]
+  std::string follower = "pure_pursuit";  // pure_pursuit | vff
+  bool allow_unknown = true;
   std::vector<Setting> settings;  // a mission file's behavior:, strategy_gains:, tape_preview_m
   std::string source_path;        // the mission file ("" for a scenario's section)
 };

@@ -6,6 +6,7 @@ const ActuatorCommand& FirmwareApp::step() {
   frame_.now_ns = dev_.clock.now_ns();
   frame_.camera = dev_.camera.latest();
   frame_.scan = dev_.scanner.latest();
+  frame_.cloud = dev_.cloud != nullptr ? dev_.cloud->latest() : nullptr;
   frame_.imu = dev_.imu.read();
   dev_.drives.read(frame_.wheels);
 

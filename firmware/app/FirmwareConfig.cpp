@@ -15,7 +15,12 @@ Status FirmwareConfig::validate() const {
       .nested(camera.validate())
       .nested(watch.validate())
       .nested(runner.validate())
-      .nested(follow_line.validate());
+      .nested(follow_line.validate())
+      .nested(mapping.validate());
+  if (mission == MissionKind::Goto) {
+    c.nested(goto_mission.validate())
+        .fail_if(!mapping.enabled, "mapping.enabled", "must be true for goto (it plans on the costmap)");
+  }
   if (lidar.present) c.nested(lidar.validate());
   return c.result();
 }

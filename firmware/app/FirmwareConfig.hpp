@@ -3,16 +3,20 @@
 // description (rates, geometry, limits, sensor mounts) and each component's own config struct.
 // The loader (loader/) fills it from config/robots/*.yaml and the mission file; validate() checks
 // every field, and its error names the field, the value, its unit and the range.
+#include "firmware/app/Mapping.hpp"
 #include "firmware/control/MotionLimiter.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
+#include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleSensing.hpp"
 
 namespace carril::fw {
+
+enum class MissionKind : std::uint8_t { FollowLine, Goto };
 
 struct FirmwareConfig {
   double rate_hz = 100.0;  // control tick [Hz]
@@ -24,7 +28,10 @@ struct FirmwareConfig {
   ObstacleSensingConfig lidar;   // lidar mount and rate, scan health
   SensorWatchConfig watch;       // device timeouts, IMU health
   MissionRunnerConfig runner;    // the obstacle stop
-  FollowLineConfig follow_line;  // the mission: strategy and state machine
+  MissionKind mission = MissionKind::FollowLine;  // which mission runs
+  FollowLineConfig follow_line;  // follow_line: strategy and state machine
+  GotoConfig goto_mission;       // goto: goal, planner and follower
+  MappingConfig mapping;         // the costmap (goto plans on it, follow_line avoids with it)
 
   Status validate() const;
   Footprint footprint() const { return {0.5 * footprint_length_m, 0.5 * footprint_width_m}; }

@@ -13,10 +13,16 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       odometry(kinematics, bus.frame, bus.odometry),
       perception(cfg.camera, bus.frame, bus.odometry, bus.line, controller),
       obstacle_sensing(cfg.lidar, bus.frame, bus.odometry, bus.obstacles, controller),
+      mapping(cfg.mapping, cfg.rate_hz, bus.frame, bus.odometry),
       mission(cfg.follow_line, cfg.footprint(), kinematics.holonomic(), cfg.lidar.present,
               bus.odometry, bus.line, bus.obstacles),
-      runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), mission, bus.frame,
-             bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),
+      goto_mission(cfg.goto_mission, cfg.footprint(), kinematics.holonomic(), bus.odometry,
+                   mapping),
+      runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(),
+             cfg.mission == MissionKind::Goto ? static_cast<Mission&>(goto_mission)
+                                              : static_cast<Mission&>(mission),
+             bus.frame, bus.odometry, bus.obstacles, bus.motion, controller,
+             cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
       cfg_(cfg) {}
@@ -28,14 +34,16 @@ TaskRates task_rates(const FirmwareConfig& c) {
   r.lidar_hz = std::min(c.lidar.rate_hz, c.rate_hz);
   r.scan_offset = 1 % TaskTable::divisor_for(c.rate_hz, r.lidar_hz);
   r.telemetry_offset = TaskTable::divisor_for(c.rate_hz, r.telemetry_hz) - 1;
+  r.mapping_hz = c.mapping.enabled ? c.rate_hz : 0.0;
   return r;
 }
 
 void LineFirmware::refresh_telemetry() {
   FirmwareTelemetry& t = telemetry_;
   controller.fill_telemetry(t.controller);
-  t.mission = mission.name();
-  mission.counters(t.mission_counters);
+  t.mission = active_mission().name();
+  active_mission().counters(t.mission_counters);
+  t.mapping = mapping.telemetry();
   t.runner = runner.telemetry();
   t.watch = watch.telemetry();
   t.odometry = odometry.telemetry();
@@ -60,9 +68,14 @@ void LineFirmware::refresh_telemetry() {
   status.publish();
 }
 
+const Mission& LineFirmware::active_mission() const {
+  return cfg_.mission == MissionKind::Goto ? static_cast<const Mission&>(goto_mission)
+                                           : static_cast<const Mission&>(mission);
+}
+
 std::uint32_t LineFirmware::mission_counter(const char* name) const {
   MissionCounters c;
-  mission.counters(c);
+  active_mission().counters(c);
   for (const MissionCounter& m : c) {
     if (std::strcmp(m.name, name) == 0) return m.value;
   }

@@ -8,6 +8,7 @@
 #include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/LineBus.hpp"
+#include "firmware/app/Mapping.hpp"
 #include "firmware/app/StatusReporter.hpp"
 #include "firmware/control/MotionOutput.hpp"
 #include "firmware/core/Status.hpp"
@@ -16,6 +17,7 @@
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
+#include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleSensing.hpp"
@@ -34,6 +36,7 @@ struct FirmwareTelemetry {
   MotionOutputTelemetry output;
   LinePerceptionTelemetry perception;
   ObstacleSensingTelemetry obstacles;
+  MappingTelemetry mapping;
   Pose2 odom;
 };
 
@@ -43,6 +46,7 @@ struct FirmwareTelemetry {
 // on the last tick of its period.
 struct TaskRates {
   double control_hz = 0.0, camera_hz = 0.0, lidar_hz = 0.0;  // [Hz]
+  double mapping_hz = 0.0;  // every tick when a costmap is built, else 0 (no task) [Hz]
   double telemetry_hz = 10.0;                                // [Hz]
   std::uint32_t scan_offset = 0, telemetry_offset = 0;       // [ticks]
 };
@@ -64,6 +68,8 @@ class LineFirmware {
   const FirmwareTelemetry& telemetry() const { return telemetry_; }
   const FirmwareConfig& config() const { return cfg_; }
 
+  // The mission the runner runs (FirmwareConfig::mission).
+  const Mission& active_mission() const;
   // A mission counter by name (0 when the mission keeps none of that name).
   std::uint32_t mission_counter(const char* name) const;
 
@@ -75,8 +81,10 @@ class LineFirmware {
   WheelOdometry odometry;
   LinePerception perception;
   ObstacleSensing obstacle_sensing;
+  Mapping mapping;  // the costmap (a CostmapView for the missions)
   FollowLineMission mission;
-  MissionRunner runner;
+  GotoMission goto_mission;
+  MissionRunner runner;  // runs the configured one of the missions above
   MotionOutput output;
   // Control loop -> slow rate group: the newest status snapshot (read by a StatusReporter).
   TripleBuffer<StatusSnapshot> status;

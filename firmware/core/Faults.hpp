@@ -22,6 +22,8 @@ enum class Fault : std::uint8_t {
                        // none at all by the end of start-up
   TickOverrun,         // more consecutive ticks than the overrun limit overran their budget or
                        // missed their deadline (the loop cannot keep its rate)
+  NoPath,              // goto: no traversable path from the robot to the goal on the costmap
+  GoalInvalid,         // goto: the goal is outside the costmap or inside an obstacle
   Count,
 };
 
@@ -57,6 +59,10 @@ inline const char* fault_name(Fault f) {
       return "imu_timeout";
     case Fault::TickOverrun:
       return "tick_overrun";
+    case Fault::NoPath:
+      return "no_path";
+    case Fault::GoalInvalid:
+      return "goal_invalid";
     case Fault::Count:
       break;
   }

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "hal/PointCloud.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -14,6 +15,7 @@ struct SensorFrame {
   hal::TimeNs now_ns = 0;  // loop time [ns]
   const hal::CameraFrame* camera = nullptr;
   const hal::LaserScan* scan = nullptr;
+  const hal::PointCloud* cloud = nullptr;  // 3D lidar sweep; nullptr without one
   hal::ImuSample imu{};
   hal::WheelFeedbackSet wheels{};
 };

@@ -1,0 +1,138 @@
+#include "firmware/app/Mapping.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace carril::fw {
+
+Status MappingConfig::validate() const {
+  Checks c("mapping");
+  if (!enabled) return c.result();
+  c.nested(costmap.validate())
+      .range("master_rate_hz", master_rate_hz, 0.1, 100.0, "Hz")
+      .range("start_free_radius_m", start_free_radius_m, 0.0, 10.0, "m")
+      .range("cloud_points_per_tick", double(cloud_points_per_tick), 100.0, 1e6, "points")
+      .range("terrain_rows_per_tick", double(terrain_rows_per_tick), 1.0, 10000.0, "rows");
+  if (terrain) {
+    c.nested(elevation.validate()).nested(analysis.validate()).nested(profile.validate());
+    c.fail_if(std::fabs(elevation.size_x_m - costmap.size_x_m) > 1e-9 ||
+                  std::fabs(elevation.size_y_m - costmap.size_y_m) > 1e-9 ||
+                  std::fabs(elevation.resolution_m - costmap.resolution_m) > 1e-12,
+              "elevation",
+              "must have the costmap's window and resolution (layers combine cell by cell)");
+  }
+  return c.result();
+}
+
+Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
+                 const Topic<OdometryMsg>& odom)
+    : cfg_(cfg), frame_(frame), odom_(odom) {
+  if (!cfg_.enabled) return;
+  // Init failures are configuration errors validate() already rejected.
+  (void)costmap_.init(cfg_.costmap);
+  master_divisor_ = std::max<std::uint32_t>(
+      1, static_cast<std::uint32_t>(std::lround(tick_rate_hz / cfg_.master_rate_hz)));
+  if (cfg_.terrain) {
+    (void)elevation_.init(cfg_.elevation);
+    (void)analysis_.init(cfg_.analysis, cfg_.costmap.nx(), cfg_.costmap.ny(),
+                         cfg_.costmap.resolution_m);
+    (void)traversability_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+  }
+}
+
+void Mapping::run() {
+  if (!cfg_.enabled) return;
+  const SensorFrame& f = frame_.get();
+  const Pose2 pose = odom_.get().pose;
+  if (!started_) {
+    pose3_.reset(pose);
+    costmap_.recenter(pose.x, pose.y);
+    if (cfg_.terrain) {
+      elevation_.recenter(pose.x, pose.y);
+      traversability_.mark_start_free(pose.x, pose.y, cfg_.start_free_radius_m);
+    }
+    started_ = true;
+  }
+  if (f.imu.valid) {
+    pose3_.update(pose, f.imu.roll_rad, f.imu.pitch_rad);
+  } else {
+    pose3_.update(pose, 0.0F, 0.0F);
+  }
+  tel_.z_m = pose3_.pose().z;
+  ++tick_;
+
+  if (!cfg_.terrain) {
+    // Obstacles only: the window follows the robot every tick (moving costs only the cells that
+    // enter), the master is rebuilt at master_rate_hz.
+    costmap_.recenter(pose.x, pose.y);
+  }
+  if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
+    last_scan_seq_ = f.scan->seq;
+    const Vec2 s = to_world(pose, Vec2(cfg_.lidar_x_m, cfg_.lidar_y_m));
+    costmap_.update_obstacles(*f.scan, Pose2{s.x(), s.y(), wrap_angle(pose.yaw + cfg_.lidar_yaw_rad)});
+    ++tel_.scans;
+  }
+  if (!cfg_.terrain) {
+    if (tick_ % master_divisor_ == 0) {
+      costmap_.update_master();
+      ++tel_.master_updates;
+    }
+    return;
+  }
+
+  // Terrain: one cycle per 3D sweep. The windows move only between cycles, so the slices of a
+  // sweep and the strips of the analysis all land on one window.
+  if (sweep_ == nullptr && next_row_ == 0) {
+    if (f.cloud == nullptr || f.cloud->seq == last_cloud_seq_) return;
+    last_cloud_seq_ = f.cloud->seq;
+    costmap_.recenter(pose.x, pose.y);
+    elevation_.recenter(pose.x, pose.y);
+    sweep_ = f.cloud;
+    next_point_ = 0;
+    sweep_pose_ = pose3_.sensor_pose(cfg_.lidar3d);
+    elevation_.begin_sweep(f.cloud->stamp_ns, sweep_pose_);
+  }
+  if (sweep_ != nullptr) {
+    fuse_slice();
+    return;
+  }
+  // Analysis and traversability, a strip of rows per tick; then the master.
+  const int ny = elevation_.grid().ny();
+  const int rows = std::min(cfg_.terrain_rows_per_tick, ny - next_row_);
+  analysis_.compute(elevation_.grid(), 0, next_row_, elevation_.grid().nx(), rows);
+  traversability_.update(analysis_, cfg_.profile);
+  next_row_ += rows;
+  if (next_row_ >= ny) {
+    next_row_ = 0;
+    const RollingGrid<std::uint8_t>* layers[] = {&traversability_.grid()};
+    if (costmap_.update_master(layers, 1)) {
+      ++tel_.master_updates;
+    } else {
+      ++tel_.skipped_master;
+    }
+  }
+}
+
+// The newest sweep's points, cloud_points_per_tick at a time. The sensor keeps the sweep's buffer
+// until its next sweep (100 ms at 10 Hz); a sweep is done within a few ticks.
+void Mapping::fuse_slice() {
+  const SensorFrame& f = frame_.get();
+  if (f.cloud == nullptr || f.cloud != sweep_ || f.cloud->seq != last_cloud_seq_) {
+    // A newer sweep replaced the buffer mid-way: close this one with what it had.
+    elevation_.end_sweep();
+    sweep_ = nullptr;
+    ++tel_.sweeps;
+    return;
+  }
+  const std::uint32_t count = std::min<std::uint32_t>(sweep_->count, hal::kMaxCloudPoints);
+  const std::uint32_t n = std::min(cfg_.cloud_points_per_tick, count - next_point_);
+  elevation_.add_points(sweep_->points.data() + next_point_, n);
+  next_point_ += n;
+  if (next_point_ >= count) {
+    elevation_.end_sweep();
+    sweep_ = nullptr;
+    ++tel_.sweeps;
+  }
+}
+
+}  // namespace carril::fw

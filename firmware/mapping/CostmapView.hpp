@@ -1,0 +1,20 @@
+#pragma once
+// What the missions read of the costmap: the master grid (every layer combined and inflated) and
+// a counter that changes whenever the master is rebuilt. Implemented by the firmware's mapping
+// component; a test can implement it over any grid.
+#include <cstdint>
+
+#include "firmware/mapping/RollingGrid.hpp"
+
+namespace carril::fw {
+
+class CostmapView {
+ public:
+  virtual ~CostmapView() = default;
+  // The combined, inflated costs (Nav2 values, firmware/mapping/CostValues.hpp).
+  virtual const RollingGrid<std::uint8_t>& master() const = 0;
+  // Increments at every rebuild of master(); 0 = never built.
+  virtual std::uint32_t updates() const = 0;
+};
+
+}  // namespace carril::fw

@@ -1,0 +1,297 @@
+#include "firmware/mission/GotoMission.hpp"
+
+#include <cmath>
+
+#include "firmware/mapping/CostValues.hpp"
+#include "firmware/planning/PathWaypoints.hpp"
+
+namespace carril::fw {
+
+Status GotoConfig::validate() const {
+  Checks c("goto");
+  c.range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
+      .range("goal_tolerance_m", goal_tolerance_m, 0.005, 1.0, "m")
+      .range("yaw_tolerance_rad", yaw_tolerance_rad, 0.001, 1.0, "rad")
+      .range("approach_m", approach_m, 0.05, 5.0, "m")
+      .range("replan_lookahead_m", replan_lookahead_m, 0.1, 50.0, "m")
+      .range("emergency_stop_m", emergency_stop_m, 0.0, 1.0, "m")
+      .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
+      .range("goal.x", goal.x, -1000.0, 1000.0, "m")
+      .range("goal.y", goal.y, -1000.0, 1000.0, "m")
+      .range("goal.yaw", goal.yaw, -2.0 * kPi, 2.0 * kPi, "rad")
+      .nested(planner.validate())
+      .nested(pure_pursuit.validate())
+      .nested(vff.validate())
+      .nested(tracker.validate());
+  return c.result();
+}
+
+const char* goto_state_name(GotoMission::State s) {
+  switch (s) {
+    case GotoMission::State::Wait:
+      return "WAIT";
+    case GotoMission::State::Plan:
+      return "PLAN";
+    case GotoMission::State::Follow:
+      return "FOLLOW";
+    case GotoMission::State::Approach:
+      return "APPROACH";
+    case GotoMission::State::Align:
+      return "ALIGN";
+    case GotoMission::State::Done:
+      return "DONE";
+    case GotoMission::State::Failed:
+      return "FAILED";
+  }
+  return "?";
+}
+
+GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool holonomic,
+                         const Topic<OdometryMsg>& odom, const CostmapView& costmap)
+    : cfg_(cfg),
+      footprint_(footprint),
+      tracker_(cfg.tracker, holonomic),
+      pure_pursuit_(cfg.pure_pursuit),
+      vff_(cfg.vff),
+      odom_(odom),
+      costmap_(costmap) {
+  const RollingGrid<std::uint8_t>& m = costmap.master();
+  planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
+}
+
+void GotoMission::go(State s, const char* phase) {
+  if (s != state_ || phase != phase_) phase_change_ = phase;
+  state_ = s;
+  phase_ = phase;
+}
+
+const char* GotoMission::take_phase_change() {
+  const char* p = phase_change_;
+  phase_change_ = nullptr;
+  return p;
+}
+
+void GotoMission::enter(const MissionContext&) {
+  state_ = State::Wait;
+  phase_ = "wait";
+  phase_change_ = "wait";
+  waypoints_.clear();
+  cells_.clear();
+  plans_ = replans_ = emergency_stops_ = 0;
+  fault_ = Fault::None;
+}
+
+MissionState GotoMission::state() const {
+  MissionState s;
+  s.id = static_cast<std::uint8_t>(state_);
+  s.name = goto_state_name(state_);
+  s.phase = phase_;
+  switch (state_) {
+    case State::Wait:
+      s.status = MissionStatus::Starting;
+      break;
+    case State::Plan:
+    case State::Follow:
+      s.status = MissionStatus::Active;
+      break;
+    case State::Approach:
+    case State::Align:
+      s.status = MissionStatus::Finishing;
+      break;
+    case State::Done:
+      s.status = MissionStatus::Done;
+      break;
+    case State::Failed:
+      s.status = MissionStatus::Failed;
+      break;
+  }
+  return s;
+}
+
+void GotoMission::counters(MissionCounters& out) const {
+  out.clear();
+  out.push_back({"plans", plans_});
+  out.push_back({"replans", replans_});
+  out.push_back({"emergency_stops", emergency_stops_});
+}
+
+MissionOutput GotoMission::fail(Fault f) {
+  fault_ = f;
+  go(State::Failed, f == Fault::NoPath ? "no_path" : "goal_invalid");
+  MissionOutput out;
+  out.fault = f;
+  return out;
+}
+
+MissionOutput GotoMission::update(const MissionContext& ctx) {
+  const Pose2 pose = odom_.get().pose;
+  switch (state_) {
+    case State::Wait:
+      if (ctx.drives_ready && costmap_.updates() > 0) {
+        if (!planner_ready_) return fail(Fault::NoPath);
+        go(State::Plan, "plan");
+        return plan_step(pose);
+      }
+      return {};
+    case State::Plan:
+      return plan_step(pose);
+    case State::Follow:
+      return follow(ctx, pose);
+    case State::Approach: {
+      bool arrived = false;
+      MissionOutput out;
+      out.motion.twist = tracker_.approach(pose, Vec2(cfg_.goal.x, cfg_.goal.y), cfg_.speed_mps,
+                                           1.5, cfg_.goal_tolerance_m, arrived);
+      if (arrived) go(State::Align, "align");
+      return out;
+    }
+    case State::Align: {
+      MissionOutput out;
+      if (std::fabs(wrap_angle(cfg_.goal.yaw - pose.yaw)) <= cfg_.yaw_tolerance_rad) {
+        go(State::Done, "done");
+        return out;
+      }
+      out.motion.twist = tracker_.turn_to(pose, cfg_.goal.yaw);
+      return out;
+    }
+    case State::Done:
+      return {};
+    case State::Failed: {
+      MissionOutput out;
+      out.fault = fault_;
+      return out;
+    }
+  }
+  return {};
+}
+
+// The robot's cell for the descent: its own, or when that one is impassable (the robot stands
+// in an obstacle's inflation) the neighbour within 3 cells nearest the goal.
+bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
+  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const int x0 = m.cell_of(pose.x) - plan_cx0_, y0 = m.cell_of(pose.y) - plan_cy0_;
+  if (planner_.reachable(x0, y0)) {
+    out = {x0, y0};
+    return true;
+  }
+  float best = WavefrontPlanner::kInfinity;
+  for (int dy = -3; dy <= 3; ++dy) {
+    for (int dx = -3; dx <= 3; ++dx) {
+      if (!planner_.reachable(x0 + dx, y0 + dy)) continue;
+      const float c = planner_.cost_to_goal(x0 + dx, y0 + dy);
+      if (c < best) {
+        best = c;
+        out = {x0 + dx, y0 + dy};
+      }
+    }
+  }
+  return best < WavefrontPlanner::kInfinity;
+}
+
+MissionOutput GotoMission::plan_step(const Pose2& pose) {
+  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  if (planner_.status() != WavefrontStatus::Running) {
+    // A new plan on the current costmap.
+    int gx = 0, gy = 0;
+    if (!m.world_to_cell(cfg_.goal.x, cfg_.goal.y, gx, gy)) return fail(Fault::GoalInvalid);
+    const WavefrontStatus s = planner_.start(m, gx, gy);
+    if (s == WavefrontStatus::GoalOutside || s == WavefrontStatus::GoalBlocked ||
+        s == WavefrontStatus::BadGrid) {
+      return fail(Fault::GoalInvalid);
+    }
+    plan_cx0_ = m.origin_cx();
+    plan_cy0_ = m.origin_cy();
+    // No early stop at the robot's cell: when it stands in inflation a neighbour is taken.
+    ++plans_;
+  }
+  const WavefrontStatus s = planner_.step(cfg_.plan_expansions_per_tick);
+  if (s == WavefrontStatus::Running) return {};  // stopped while planning
+  GridCell start;
+  if (!start_cell(pose, start)) return fail(Fault::NoPath);
+  if (planner_.extract_path(start.x, start.y, cells_) != PathResult::Ok) {
+    return fail(Fault::NoPath);
+  }
+  const double ox = plan_cx0_ * m.resolution(), oy = plan_cy0_ * m.resolution();
+  cells_to_waypoints(cells_.begin(), cells_.size(), ox, oy, m.resolution(), waypoints_);
+  // The goal itself, not its cell's centre, ends the path.
+  if (!waypoints_.empty()) waypoints_.back() = Vec2(cfg_.goal.x, cfg_.goal.y);
+  progress_ = 0;
+  seen_updates_ = costmap_.updates();
+  go(State::Follow, "follow");
+  return {};
+}
+
+// Samples the path from the robot's segment on, for replan_lookahead_m: a lethal or inscribed
+// cell on it means the plan no longer holds.
+bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
+  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  double left = cfg_.replan_lookahead_m;
+  Vec2 a(pose.x, pose.y);
+  for (std::size_t i = progress_ + 1; i < waypoints_.size() && left > 0.0; ++i) {
+    const Vec2 b = waypoints_[i];
+    const double len = (b - a).norm();
+    const int n = static_cast<int>(std::ceil(len / (0.5 * m.resolution())));
+    for (int k = 1; k <= n; ++k) {
+      const Vec2 p = a + (b - a) * (double(k) / n);
+      int cx = 0, cy = 0;
+      if (!m.world_to_cell(p.x(), p.y(), cx, cy)) continue;
+      const std::uint8_t c = m.at(cx, cy);
+      if (c == cost::kLethal || c == cost::kInscribed) {
+        // The robot's own inflated cell does not count (it may be standing in inflation).
+        if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width) return true;
+      }
+    }
+    left -= len;
+    a = b;
+  }
+  return false;
+}
+
+// A lethal cell just ahead of the body (within emergency_stop_m of its front edge).
+bool GotoMission::lethal_ahead(const Pose2& pose) const {
+  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const double front = footprint_.half_length + cfg_.emergency_stop_m;
+  for (double y = -footprint_.half_width; y <= footprint_.half_width; y += 0.5 * m.resolution()) {
+    const Vec2 p = to_world(pose, Vec2(front, y));
+    int cx = 0, cy = 0;
+    if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;
+  }
+  return false;
+}
+
+MissionOutput GotoMission::follow(const MissionContext& ctx, const Pose2& pose) {
+  (void)ctx;
+  const Vec2 goal(cfg_.goal.x, cfg_.goal.y);
+  if ((goal - Vec2(pose.x, pose.y)).norm() <= cfg_.approach_m) {
+    go(State::Approach, "approach");
+    return {};
+  }
+  if (costmap_.updates() != seen_updates_) {
+    seen_updates_ = costmap_.updates();
+    if (path_blocked_ahead(pose)) {
+      ++replans_;
+      go(State::Plan, "replan");
+      return plan_step(pose);
+    }
+  }
+  MissionOutput out;
+  bool at_end = false;
+  if (cfg_.follower == GotoFollower::Vff) {
+    out.motion.twist = vff_.command(pose, waypoints_.begin(), waypoints_.size(), progress_,
+                                    costmap_.master(), at_end);
+  } else {
+    out.motion.twist =
+        pure_pursuit_.command(pose, waypoints_.begin(), waypoints_.size(), progress_, at_end);
+  }
+  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) {
+    // The costmap says the body is about to touch something: stop and plan again.
+    ++emergency_stops_;
+    ++replans_;
+    go(State::Plan, "replan");
+    return {};
+  }
+  if (at_end) go(State::Approach, "approach");
+  return out;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,105 @@
+#pragma once
+// The goto mission: drive to a goal pose on the costmap the robot builds while it drives. Plans
+// with the wavefront planner (spread over ticks, a budget per tick), follows the path with the
+// selected local follower (pure pursuit or VFF), replans when the costmap puts an obstacle on
+// the path ahead, creeps onto the goal and turns to its heading. It stops and reports when no
+// path exists (no_path) or when the goal is outside the costmap or inside an obstacle
+// (goal_invalid).
+//
+//   WAIT --drives ready, costmap updated--> PLAN --path--> FOLLOW --end of path--> APPROACH
+//   APPROACH --within goal_tolerance_m--> ALIGN --heading within yaw_tolerance--> DONE
+//   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
+//   PLAN --no path / goal invalid--> FAILED (fault)
+#include <cstdint>
+
+#include "firmware/control/PathTracker.hpp"
+#include "firmware/control/PurePursuitFollower.hpp"
+#include "firmware/control/VffFollower.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mapping/CostmapView.hpp"
+#include "firmware/mission/Mission.hpp"
+#include "firmware/planning/WavefrontPlanner.hpp"
+
+namespace carril::fw {
+
+enum class GotoFollower : std::uint8_t { PurePursuit, Vff };
+
+struct GotoConfig {
+  Pose2 goal;  // goal pose, odometry frame [m, m, rad]
+  double speed_mps = 0.4;
+  GotoFollower follower = GotoFollower::PurePursuit;
+  WavefrontConfig planner;
+  PurePursuitConfig pure_pursuit;
+  VffConfig vff;
+  PathTrackerConfig tracker;
+  double goal_tolerance_m = 0.08;             // creep until this close (the goal is 0.1 m) [m]
+  double yaw_tolerance_rad = 0.07;            // turn until this close (the goal is 10 deg) [rad]
+  double approach_m = 0.35;                   // the last stretch, driven onto the goal [m]
+  std::uint32_t plan_expansions_per_tick = 15000;  // the planner's budget per tick [cells]
+  double replan_lookahead_m = 3.0;  // obstacles on the path this far ahead cause a replan [m]
+  double emergency_stop_m = 0.05;   // a lethal cell this close ahead of the body stops [m]
+
+  Status validate() const;
+};
+
+class GotoMission final : public Mission {
+ public:
+  static constexpr std::size_t kMaxPathCells = 4096;
+  static constexpr std::size_t kMaxWaypoints = 1024;
+
+  // Sizes the planner for the costmap's window (init time).
+  GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool holonomic,
+              const Topic<OdometryMsg>& odom, const CostmapView& costmap);
+
+  const char* name() const override { return "goto"; }
+  void enter(const MissionContext& ctx) override;
+  void exit() override {}
+  MissionOutput update(const MissionContext& ctx) override;
+  MissionState state() const override;
+  const char* take_phase_change() override;
+  void counters(MissionCounters& out) const override;
+
+  enum class State : std::uint8_t { Wait, Plan, Follow, Approach, Align, Done, Failed };
+  State current() const { return state_; }
+  std::uint32_t replans() const { return replans_; }
+  // The path being followed, odometry frame (for plots and tests).
+  const StaticVector<Vec2, kMaxWaypoints>& path() const { return waypoints_; }
+  const WavefrontPlanner& planner() const { return planner_; }
+
+ private:
+  void go(State s, const char* phase);
+  MissionOutput plan_step(const Pose2& pose);
+  MissionOutput follow(const MissionContext& ctx, const Pose2& pose);
+  bool path_blocked_ahead(const Pose2& pose) const;
+  bool lethal_ahead(const Pose2& pose) const;
+  bool start_cell(const Pose2& pose, GridCell& out) const;
+  MissionOutput fail(Fault f);
+
+  GotoConfig cfg_;
+  Footprint footprint_;
+  PathTracker tracker_;
+  PurePursuitFollower pure_pursuit_;
+  VffFollower vff_;
+  const Topic<OdometryMsg>& odom_;
+  const CostmapView& costmap_;
+  WavefrontPlanner planner_;
+  bool planner_ready_ = false;
+
+  State state_ = State::Wait;
+  const char* phase_ = "wait";
+  const char* phase_change_ = nullptr;
+  std::uint32_t plan_origin_cx_ = 0;
+  int plan_cx0_ = 0, plan_cy0_ = 0;  // global index of the planning grid's first cell
+  std::uint32_t seen_updates_ = 0;
+  StaticVector<GridCell, kMaxPathCells> cells_;
+  StaticVector<Vec2, kMaxWaypoints> waypoints_;
+  std::size_t progress_ = 0;  // index of the path segment the follower is on
+  std::uint32_t plans_ = 0, replans_ = 0, emergency_stops_ = 0;
+  Fault fault_ = Fault::None;
+};
+
+const char* goto_state_name(GotoMission::State s);
+
+}  // namespace carril::fw
