@@ -144,6 +144,10 @@ namespace fs = std::filesystem;
 
 constexpr std::array<const char*, 4> kOutputFiles = {"trajectory.csv", "trajectory.png",
                                                      "velocities.png", "summary.json"};
+// What a run with a costmap adds (RunExtraFile names must be among these).
+constexpr std::array<const char*, 6> kExtraOutputFiles = {
+    "costmap.png", "costmap.pgm", "costmap.yaml", "traversability.png", "elevation.cmap",
+    "obstacles.png"};
 
 std::string g_fault;  // set_output_fault_for_test
 
@@ -157,7 +161,11 @@ bool all_digits(std::string_view s) {
 
 // A previous run's file, or a per-file temporary ("<file>.tmp.<pid>") a cut-short write left.
 bool is_output_name(std::string_view n) {
-  for (const std::string_view f : kOutputFiles) {
+  std::array<std::string_view, kOutputFiles.size() + kExtraOutputFiles.size()> names{};
+  std::size_t k = 0;
+  for (const char* f : kOutputFiles) names[k++] = f;
+  for (const char* f : kExtraOutputFiles) names[k++] = f;
+  for (const std::string_view f : names) {
     if (n == f) return true;
     if (n.size() > f.size() + 5 && n.substr(0, f.size()) == f && n.substr(f.size(), 5) == ".tmp." &&
         all_digits(n.substr(f.size() + 5))) {
@@ -342,7 +350,7 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error) {
+                       std::string& error, const std::vector<RunExtraFile>& extra) {
   OutPaths p;
   // Checked again: the directory may have changed during the run, and it is about to be replaced.
   if (!resolve(dir, p, error) || !check_replaceable(p, error) || !create_parent(p, error)) {
@@ -372,6 +380,12 @@ bool write_run_outputs(const std::string& dir, const Scenario& scenario,
   if (!write("trajectory.png", png)) return abandon(error);
   if (!render_velocities_png(rows, summary, png, error)) return abandon(error);
   if (!write("velocities.png", png)) return abandon(error);
+  for (const RunExtraFile& f : extra) {
+    bool known = false;
+    for (const char* name : kExtraOutputFiles) known = known || f.name == name;
+    if (!known) return abandon("internal: " + f.name + " is not a run output file");
+    if (!write(f.name.c_str(), f.bytes)) return abandon(error);
+  }
   if (!write("summary.json", summary_to_json(summary))) return abandon(error);
   fsync_dir(p.staging);
 

@@ -78,10 +78,17 @@ bool prepare_output_dir(const std::string& dir, std::string& error);
 // On failure returns false with `error` set, the previous set is left as it was and the staging
 // directory is removed; a crash at any point leaves either the old or the new set whole under
 // `dir` or beside it, never a mix.
+// A further file of the set (a run with a costmap: costmap.png, costmap.pgm, costmap.yaml,
+// traversability.png, obstacles.png, elevation.cmap).
+struct RunExtraFile {
+  std::string name;
+  std::string bytes;
+};
+
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error);
+                       std::string& error, const std::vector<RunExtraFile>& extra = {});
 
 // Test hook: makes the next write_run_outputs calls fail at `step` until reset with "". Steps: a
 // file name ("trajectory.csv", "trajectory.png", "velocities.png", "summary.json": writing that

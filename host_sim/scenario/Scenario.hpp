@@ -69,6 +69,17 @@ struct TerrainSpec {
   double height_m = 0.0;   // step
 };
 
+// A costmap cell's label a run must end with (goto and terrain scenarios): the cell under the
+// world point (x, y), read from one of the firmware's grids at the end of the run.
+enum class CellLabel { Free, Passable, Lethal, Unknown };
+enum class CellLayer { Master, Traversability, Obstacle };
+struct CellExpect {
+  Vec2 at;                             // world frame [m]
+  CellLabel label = CellLabel::Free;   // free: cost 0; passable: 0..252; lethal: 254; unknown: 255
+  CellLayer layer = CellLayer::Traversability;
+  std::string what;                    // what the cell is, for the message (e.g. "cube face")
+};
+
 struct ExpectSpec {
   std::optional<bool> end_reached;
   std::optional<int> max_collisions;
@@ -76,9 +87,16 @@ struct ExpectSpec {
   std::optional<double> min_progress;
   std::optional<int> min_laps;
   std::optional<double> max_end_stop_error_m;  // [m]
+  // goto
+  std::optional<bool> goal_reached;
+  std::optional<double> max_goal_error_m;        // [m]
+  std::optional<double> max_goal_yaw_error_deg;  // [deg]
+  std::optional<std::string> fault;              // the run must end in this fault (e.g. no_path)
+  std::vector<CellExpect> cells;
   bool any() const {
     return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps ||
-           max_end_stop_error_m;
+           max_end_stop_error_m || goal_reached || max_goal_error_m || max_goal_yaw_error_deg ||
+           fault || !cells.empty();
   }
 };
 

@@ -45,6 +45,7 @@ constexpr std::size_t kMaxObstacles = 256;
 constexpr std::size_t kMaxWalls = 256;
 constexpr std::size_t kMaxWallPoints = 4096;  // all walls
 constexpr std::size_t kMaxTerrain = 256;
+constexpr std::size_t kMaxCellExpects = 256;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -257,23 +258,6 @@ TerrainSpec parse_terrain(const Node& m) {
   return t;
 }
 
-ExpectSpec parse_expect(const Node& m) {
-  m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
-                "min_laps", "max_end_stop_error_m"});
-  ExpectSpec e;
-  if (auto n = m.get("end_reached")) e.end_reached = n->boolean();
-  if (auto n = m.get("max_collisions")) e.max_collisions = static_cast<int>(n->integer(0, 1000000));
-  if (auto n = m.get("max_cross_track_rms_m")) {
-    e.max_cross_track_rms_m = n->number(Range::open_closed(0.0, 10.0));
-  }
-  if (auto n = m.get("min_progress")) e.min_progress = n->number(Range::closed(0.0, 1.0));
-  if (auto n = m.get("min_laps")) e.min_laps = static_cast<int>(n->integer(0, 1000000));
-  if (auto n = m.get("max_end_stop_error_m")) {
-    e.max_end_stop_error_m = n->number(Range::open_closed(0.0, 10.0));
-  }
-  return e;
-}
-
 // A list of at most `max_items` (checked before any item is read), each read by parse_item.
 template <typename T, typename F>
 std::vector<T> parse_list(const std::optional<Node>& n, std::size_t max_items, const char* what,
@@ -287,6 +271,54 @@ std::vector<T> parse_list(const std::optional<Node>& n, std::size_t max_items, c
   }
   for (const Node& item : n->items()) out.push_back(parse_item(item));
   return out;
+}
+
+CellExpect parse_cell_expect(const Node& m) {
+  m.expect_map({"x", "y", "label", "layer", "what"});
+  CellExpect c;
+  c.at = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
+  const std::string label = m.at("label").one_of({"free", "passable", "lethal", "unknown"});
+  c.label = label == "free"       ? CellLabel::Free
+            : label == "passable" ? CellLabel::Passable
+            : label == "lethal"   ? CellLabel::Lethal
+                                  : CellLabel::Unknown;
+  if (auto n = m.get("layer")) {
+    const std::string layer = n->one_of({"master", "traversability", "obstacle"});
+    c.layer = layer == "master"           ? CellLayer::Master
+              : layer == "traversability" ? CellLayer::Traversability
+                                          : CellLayer::Obstacle;
+  }
+  if (auto n = m.get("what")) c.what = n->string();
+  return c;
+}
+
+ExpectSpec parse_expect(const Node& m) {
+  m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
+                "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
+                "max_goal_yaw_error_deg", "fault", "cells"});
+  ExpectSpec e;
+  if (auto n = m.get("goal_reached")) e.goal_reached = n->boolean();
+  if (auto n = m.get("max_goal_error_m")) {
+    e.max_goal_error_m = n->number(Range::open_closed(0.0, 10.0));
+  }
+  if (auto n = m.get("max_goal_yaw_error_deg")) {
+    e.max_goal_yaw_error_deg = n->number(Range::open_closed(0.0, 180.0));
+  }
+  if (auto n = m.get("fault")) {
+    e.fault = n->one_of({"no_path", "goal_invalid", "path_blocked", "line_not_found"});
+  }
+  e.cells = parse_list<CellExpect>(m.get("cells"), kMaxCellExpects, "cells", parse_cell_expect);
+  if (auto n = m.get("end_reached")) e.end_reached = n->boolean();
+  if (auto n = m.get("max_collisions")) e.max_collisions = static_cast<int>(n->integer(0, 1000000));
+  if (auto n = m.get("max_cross_track_rms_m")) {
+    e.max_cross_track_rms_m = n->number(Range::open_closed(0.0, 10.0));
+  }
+  if (auto n = m.get("min_progress")) e.min_progress = n->number(Range::closed(0.0, 1.0));
+  if (auto n = m.get("min_laps")) e.min_laps = static_cast<int>(n->integer(0, 1000000));
+  if (auto n = m.get("max_end_stop_error_m")) {
+    e.max_end_stop_error_m = n->number(Range::open_closed(0.0, 10.0));
+  }
+  return e;
 }
 
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
@@ -322,7 +354,7 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   const bool has_line = std::any_of(s.lines.begin(), s.lines.end(), [&](const LineSpec& l) {
     return l.color == s.mission.line_color;
   });
-  if (!has_line) {
+  if (s.mission.type == "follow_line" && !has_line) {
     const Node where = lines ? *lines : Node(YAML::Node(), "lines", &path);
     where.expected("at least one line of mission.line_color " + s.mission.line_color_name,
                    !lines            ? "no lines"
