@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <vector>
 
@@ -35,8 +36,8 @@ std::array<std::uint8_t, 3> costmap_png_rgb(std::uint8_t c) {
       const int lo = kGradedLow[k];
       const int hi = kGradedHigh[k];
       // Linear from kGradedLow at cost 1 to kGradedHigh at cost 252, rounded.
-      const int v =
-          lo + ((hi - lo) * (c - 1) * 2 + (cost::kMaxGraded - 1)) / (2 * (cost::kMaxGraded - 1));
+      const double t = (c - 1) / static_cast<double>(cost::kMaxGraded - 1);
+      const long v = std::lround(lo + (hi - lo) * t);
       out[k] = static_cast<std::uint8_t>(v);
     }
     return out;
