@@ -80,6 +80,9 @@ TEST(ElevationMapFile, Crc32IsTheIeeeOne) {
   // Continuing over two pieces gives the CRC of the whole.
   EXPECT_EQ(crc32_ieee("6789", 4, crc32_ieee("12345", 5)), 0xCBF43926U);
   EXPECT_EQ(crc32_ieee("", 0), 0U);
+  // Longer than the 8-byte steps, with a tail (zlib: crc32 of this sentence).
+  const char* fox = "The quick brown fox jumps over the lazy dog";
+  EXPECT_EQ(crc32_ieee(fox, std::strlen(fox)), 0x414FA339U);
 }
 
 TEST(ElevationMapFile, LayoutIsLittleEndianFieldByField) {
