@@ -48,6 +48,14 @@ struct LimitsSpec {
   double max_wheel_accel_radps2 = 20.0;  // each wheel [rad/s^2]
 };
 
+// What ground the robot can drive over (the `traversability:` section), for the terrain costmap;
+// converted to the firmware's TraversabilityProfile when the configuration is built.
+struct TraversabilitySpec {
+  double max_slope_deg = 8.0;     // steepest ground slope it climbs or descends [deg]
+  double max_step_up_m = 0.03;    // highest step it climbs between neighbouring cells [m]
+  double max_step_down_m = 0.10;  // deepest drop it drives down [m]
+};
+
 // A robot description (config/robots/<name>.yaml); in the simulator, after the scenario's
 // overrides are applied.
 struct RobotSpec {
@@ -65,6 +73,7 @@ struct RobotSpec {
   LidarSpec lidar;
   ImuSpec imu;
   LimitsSpec limits;
+  TraversabilitySpec traversability;
   Pose2 start;  // set by a scenario; the robot target leaves it at the origin
 };
 

@@ -27,6 +27,7 @@ control_rate_hz: 100
 camera: {x_m: 0.49, y_m: 0.01, z_m: 0.90, tilt_deg: 55.0, hfov_deg: 54.2, width: 640, height: 480, rate_hz: 30, noise_std: 0.0}
 lidar: {x_m: 0.45, y_m: -0.35, yaw_deg: -45.0, fov_deg: 270.0, beams: 541, range_min_m: 0.05, range_max_m: 20.0, rate_hz: 20, noise_std_m: 0.01}
 limits: {max_speed_mps: 1.5, max_yaw_rate_radps: 1.5, max_accel_mps2: 1.0, max_wheel_speed_radps: 12.0, max_wheel_accel_radps2: 25.0}
+traversability: {max_slope_deg: 5.0, max_step_up_m: 0.02, max_step_down_m: 0.05}
 )";
 
 const std::string kScenario = R"(name: corner
@@ -180,6 +181,9 @@ std::vector<Corner> corners() {
        {{"radius_m: 0.127", "radius_m: 1"}}},
       {'P', "max_wheel_accel", "max_wheel_accel_radps2: 25.0", "max_wheel_accel_radps2: ", "0.5",
        "5000"},
+      {'P', "max_slope", "max_slope_deg: 5.0", "max_slope_deg: ", "0", "60"},
+      {'P', "max_step_up", "max_step_up_m: 0.02", "max_step_up_m: ", "0", "1"},
+      {'P', "max_step_down", "max_step_down_m: 0.05", "max_step_down_m: ", "0", "1"},
       // Scenario: top level.
       {'S', "duration", "duration_s: 10", "duration_s: ", "0.1", "86400"},
       {'S', "seed", "seed: 1", "seed: ", "0", "18446744073709551615"},

@@ -1,0 +1,137 @@
+// carril_costmap: looks into saved elevation maps (docs/map-formats.md).
+//   carril_costmap info FILE                  header fields, observed cells, height range
+//   carril_costmap heights FILE OUT.png [S]   observed heights as an 8-bit grey PNG (top row =
+//                                             highest y; black = never observed; S px per cell)
+// Deriving a costmap for a robot profile is the integrator's `derive` command (it needs the
+// firmware's traversability code). Exit status: 0 ok, 1 bad file or I/O error, 2 usage.
+#include <png.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "loader/AtomicWrite.hpp"
+#include "loader/ElevationMapFile.hpp"
+
+namespace {
+
+using carril::loader::ElevationMapData;
+
+// A saved map this tool reads at most: 2^28 cells is 2 GiB of cells, beyond any site survey.
+constexpr std::uint64_t kMaxCells = std::uint64_t{1} << 28;
+constexpr int kMaxScale = 16;
+
+struct HeightRange {
+  std::uint64_t observed = 0;
+  double min_m = std::numeric_limits<double>::infinity();
+  double max_m = -std::numeric_limits<double>::infinity();
+};
+
+HeightRange height_range(const ElevationMapData& m) {
+  HeightRange r;
+  for (const auto& c : m.cells) {
+    if (!c.observed()) continue;
+    ++r.observed;
+    r.min_m = std::fmin(r.min_m, static_cast<double>(c.height_m));
+    r.max_m = std::fmax(r.max_m, static_cast<double>(c.height_m));
+  }
+  return r;
+}
+
+int info(const std::string& path, const ElevationMapData& m) {
+  const HeightRange r = height_range(m);
+  const std::uint64_t total = m.cells.size();
+  std::printf("file:        %s\n", path.c_str());
+  std::printf("format:      CARRILEM version %u\n", carril::loader::kElevationMapVersion);
+  std::printf("frame:       %s\n", m.frame.c_str());
+  std::printf("resolution:  %.6g m\n", m.resolution_m);
+  std::printf("size:        %u x %u cells (%.6g x %.6g m)\n", m.nx, m.ny, m.nx * m.resolution_m,
+              m.ny * m.resolution_m);
+  std::printf("origin:      (%.6g, %.6g) m, lower-left corner of cell (0, 0)\n", m.origin_x_m,
+              m.origin_y_m);
+  std::printf("observed:    %llu of %llu cells (%.1f%%)\n",
+              static_cast<unsigned long long>(r.observed), static_cast<unsigned long long>(total),
+              100.0 * static_cast<double>(r.observed) / static_cast<double>(total));
+  if (r.observed > 0) std::printf("heights:     %.4f .. %.4f m\n", r.min_m, r.max_m);
+  return 0;
+}
+
+int heights(const ElevationMapData& m, const std::string& out, int scale) {
+  const HeightRange r = height_range(m);
+  const double span = r.max_m - r.min_m;
+  const auto s = static_cast<std::size_t>(scale);
+  const std::size_t width = m.nx * s, height = m.ny * s;
+  std::vector<std::uint8_t> grey(width * height, 0);
+  for (std::size_t y = 0; y < height; ++y) {
+    const std::size_t row = m.ny - 1 - y / s;  // top row = highest y
+    for (std::size_t x = 0; x < width; ++x) {
+      const auto& c = m.cells[row * m.nx + x / s];
+      if (!c.observed()) continue;  // black
+      // Lowest observed height 1, highest 255 (a flat map is mid grey).
+      const double t = span > 0.0 ? (static_cast<double>(c.height_m) - r.min_m) / span : 0.5;
+      grey[y * width + x] = static_cast<std::uint8_t>(1 + std::lround(t * 254.0));
+    }
+  }
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(width);
+  image.height = static_cast<png_uint_32>(height);
+  image.format = PNG_FORMAT_GRAY;
+  png_alloc_size_t size = 0;
+  std::string bytes;
+  if (png_image_write_to_memory(&image, nullptr, &size, 0, grey.data(), 0, nullptr) != 0) {
+    bytes.resize(size);
+    if (png_image_write_to_memory(&image, bytes.data(), &size, 0, grey.data(), 0, nullptr) == 0) {
+      size = 0;
+    }
+  }
+  if (size == 0) {
+    std::fprintf(stderr, "%s: libpng: %s\n", out.c_str(), image.message);
+    png_image_free(&image);
+    return 1;
+  }
+  bytes.resize(size);
+  if (const auto err = carril::loader::write_file_atomically(out, bytes)) {
+    std::fprintf(stderr, "%s\n", err->c_str());
+    return 1;
+  }
+  std::printf("%s: %zu x %zu px, %llu observed cells, heights %.4f .. %.4f m -> grey 1 .. 255\n",
+              out.c_str(), width, height, static_cast<unsigned long long>(r.observed),
+              r.observed > 0 ? r.min_m : 0.0, r.observed > 0 ? r.max_m : 0.0);
+  return 0;
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: carril_costmap info FILE\n"
+               "       carril_costmap heights FILE OUT.png [SCALE 1..%d]\n",
+               kMaxScale);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) return usage();
+  const std::string cmd = argv[1];
+  const std::string path = argv[2];
+  if (!((cmd == "info" && argc == 3) || (cmd == "heights" && (argc == 4 || argc == 5)))) {
+    return usage();
+  }
+  int scale = 1;
+  if (argc == 5) {
+    char* end = nullptr;
+    const long v = std::strtol(argv[4], &end, 10);
+    if (end == argv[4] || *end != '\0' || v < 1 || v > kMaxScale) return usage();
+    scale = static_cast<int>(v);
+  }
+  const auto loaded = carril::loader::load_elevation_map(path, kMaxCells);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "%s\n", loaded.error.c_str());
+    return 1;
+  }
+  return cmd == "info" ? info(path, loaded.map) : heights(loaded.map, argv[3], scale);
+}
