@@ -216,6 +216,8 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
   // The goal itself, not its cell's centre, ends the path.
   if (!waypoints_.empty()) waypoints_.back() = Vec2(cfg_.goal.x, cfg_.goal.y);
   progress_ = 0;
+  pure_pursuit_.reset();
+  vff_.reset();
   seen_updates_ = costmap_.updates();
   go(State::Follow, "follow");
   return {};
@@ -277,11 +279,13 @@ MissionOutput GotoMission::follow(const MissionContext& ctx, const Pose2& pose) 
   MissionOutput out;
   bool at_end = false;
   if (cfg_.follower == GotoFollower::Vff) {
-    out.motion.twist = vff_.command(pose, waypoints_.begin(), waypoints_.size(), progress_,
-                                    costmap_.master(), at_end);
+    out.motion.twist = vff_.update(pose, waypoints_.begin(), waypoints_.size(), costmap_.master());
+    progress_ = vff_.progress();
+    at_end = vff_.at_end();
   } else {
-    out.motion.twist =
-        pure_pursuit_.command(pose, waypoints_.begin(), waypoints_.size(), progress_, at_end);
+    out.motion.twist = pure_pursuit_.update(pose, waypoints_.begin(), waypoints_.size());
+    progress_ = pure_pursuit_.progress();
+    at_end = pure_pursuit_.at_end();
   }
   if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) {
     // The costmap says the body is about to touch something: stop and plan again.

@@ -90,7 +90,6 @@ class GotoMission final : public Mission {
   State state_ = State::Wait;
   const char* phase_ = "wait";
   const char* phase_change_ = nullptr;
-  std::uint32_t plan_origin_cx_ = 0;
   int plan_cx0_ = 0, plan_cy0_ = 0;  // global index of the planning grid's first cell
   std::uint32_t seen_updates_ = 0;
   StaticVector<GridCell, kMaxPathCells> cells_;
