@@ -1,5 +1,7 @@
 #include "loader/FirmwareConfigBuilder.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <string_view>
 
@@ -139,6 +141,8 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   // pid has a speed for straights and one for curves: the mission's speed and 80% of it.
   st.pid_straight.speed_mps = mission.speed_mps;
   st.pid_curve.speed_mps = 0.8 * mission.speed_mps;
+  apply_mapping(r, c);
+  if (mission.type == "goto") apply_goto(mission, c);
   fw::apply_sensor_rates(c);
   if (const fw::Status s = c.validate(); !s) {
     return rejected(explain_base(r, mission, s.message()), s);
