@@ -304,8 +304,11 @@ int main(int argc, char** argv) {
   const carril::sim::RunSummary summary = run.summary(wall);
 
   std::string error;
+  const auto costmaps = [&run](const std::string& dir, std::string& err) {
+    return carril::sim::write_costmap_outputs(run.firmware(), dir, err);
+  };
   if (!carril::sim::write_run_outputs(out_dir, scenario, run.rows(), run.collisions(), summary,
-                                      error)) {
+                                      error, costmaps)) {
     std::fprintf(stderr, "carril_sim: writing outputs: %s\n", error.c_str());
     return 2;
   }

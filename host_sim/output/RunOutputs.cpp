@@ -117,6 +117,15 @@ std::string summary_to_json(const RunSummary& s) {
     w.raw("mission_counters", counters.finish_inline());
   }
   w.integer("task_overrun_events", s.task_overrun_events);
+  if (s.goal_reached) {
+    w.boolean("goal_reached", *s.goal_reached);
+  } else {
+    w.raw("goal_reached", "null");
+  }
+  w.num("goal_error_m", s.goal_error_m);
+  w.num("goal_yaw_error_deg", s.goal_yaw_error_deg);
+  w.integer("replans", s.replans);
+  w.integer("cells_checked", s.cells_checked);
   return w.finish();
 }
 
@@ -350,7 +359,7 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error, const std::vector<RunExtraFile>& extra) {
+                       std::string& error, const ExtraOutputs& extra) {
   OutPaths p;
   // Checked again: the directory may have changed during the run, and it is about to be replaced.
   if (!resolve(dir, p, error) || !check_replaceable(p, error) || !create_parent(p, error)) {
@@ -380,11 +389,14 @@ bool write_run_outputs(const std::string& dir, const Scenario& scenario,
   if (!write("trajectory.png", png)) return abandon(error);
   if (!render_velocities_png(rows, summary, png, error)) return abandon(error);
   if (!write("velocities.png", png)) return abandon(error);
-  for (const RunExtraFile& f : extra) {
-    bool known = false;
-    for (const char* name : kExtraOutputFiles) known = known || f.name == name;
-    if (!known) return abandon("internal: " + f.name + " is not a run output file");
-    if (!write(f.name.c_str(), f.bytes)) return abandon(error);
+  if (extra) {
+    if (!extra(p.staging.string(), error)) return abandon(error);
+    // Only the known names may join the set (a later run must recognise it as outputs).
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(p.staging, ec)) {
+      const std::string n = e.path().filename().string();
+      if (!is_output_name(n)) return abandon("internal: " + n + " is not a run output file");
+    }
   }
   if (!write("summary.json", summary_to_json(summary))) return abandon(error);
   fsync_dir(p.staging);

@@ -2,6 +2,7 @@
 // Everything a run leaves on disk: trajectory.csv, summary.json, trajectory.png, velocities.png.
 // The four replace the previous run's as one set: they are written into a staging directory
 // beside the output directory, synced, and the staging directory is swapped in with one rename.
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -55,6 +56,12 @@ struct RunSummary {
   // Throttled task-overrun events of the firmware (this host's compute time against each
   // task's budget: at most one per task and second).
   long task_overrun_events = 0;
+  // goto (null for other missions): whether the robot stopped on the goal within 0.1 m and
+  // 10 deg, its errors from the true pose, and the plans remade because the costmap blocked one.
+  std::optional<bool> goal_reached;
+  std::optional<double> goal_error_m, goal_yaw_error_deg;  // [m], [deg]
+  long replans = 0;
+  int cells_checked = 0;  // expect.cells entries checked against the costmap
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).
@@ -78,17 +85,15 @@ bool prepare_output_dir(const std::string& dir, std::string& error);
 // On failure returns false with `error` set, the previous set is left as it was and the staging
 // directory is removed; a crash at any point leaves either the old or the new set whole under
 // `dir` or beside it, never a mix.
-// A further file of the set (a run with a costmap: costmap.png, costmap.pgm, costmap.yaml,
-// traversability.png, obstacles.png, elevation.cmap).
-struct RunExtraFile {
-  std::string name;
-  std::string bytes;
-};
+// Writes further files of the set into the staging directory `dir` (a run with a costmap:
+// costmap.png, costmap.pgm, costmap.yaml, traversability.png, obstacles.png, elevation.cmap);
+// false with `error` when one cannot be written.
+using ExtraOutputs = std::function<bool(const std::string& dir, std::string& error)>;
 
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error, const std::vector<RunExtraFile>& extra = {});
+                       std::string& error, const ExtraOutputs& extra = {});
 
 // Test hook: makes the next write_run_outputs calls fail at `step` until reset with "". Steps: a
 // file name ("trajectory.csv", "trajectory.png", "velocities.png", "summary.json": writing that
