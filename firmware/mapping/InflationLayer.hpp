@@ -30,7 +30,8 @@ struct InflationConfig {
 
 class InflationLayer {
  public:
-  // Largest inflation radius [cells] (keeps squared distances in 16 bits).
+  // Largest inflation radius [cells] (keeps squared distances in signed 16 bits: SSE2 has a signed
+  // 16-bit min).
   static constexpr int kMaxRadiusCells = 120;
 
   // Builds the cost table and the scratch rows for grids of nx x ny cells of resolution_m [m]
@@ -51,13 +52,13 @@ class InflationLayer {
  private:
   InflationConfig cfg_;
   int nx_ = 0, ny_ = 0;
-  int radius_ = 0;                           // R = floor(inflation radius / resolution) [cells]
-  int max_d2_ = 0;                           // largest squared distance with a cost entry [cells^2]
-  std::unique_ptr<std::uint8_t[]> table_;    // cost by squared distance, max_d2_ + 1 entries
-  std::unique_ptr<std::uint8_t[]> g_;        // pass 1: vertical distance, ny rows x nx
-  std::unique_ptr<std::uint16_t[]> g2_row_;  // pass 2: g^2 of one window row, R padding each side
-  std::unique_ptr<std::uint16_t[]> d2_row_;  // pass 2: squared distance of one window row
-  std::unique_ptr<std::uint16_t[]> sq_;      // k^2 for k in [0, R + 1]
+  int radius_ = 0;                          // R = floor(inflation radius / resolution) [cells]
+  int max_d2_ = 0;                          // largest squared distance with a cost entry [cells^2]
+  std::unique_ptr<std::uint8_t[]> table_;   // cost by squared distance, max_d2_ + 1 entries
+  std::unique_ptr<std::uint8_t[]> g_;       // pass 1: vertical distance, ny rows x nx
+  std::unique_ptr<std::int16_t[]> g2_row_;  // pass 2: g^2 of one window row, R padding each side
+  std::unique_ptr<std::int16_t[]> d2_row_;  // pass 2: squared distance of one window row
+  std::unique_ptr<std::int16_t[]> sq_;      // k^2 for k in [0, R + 1]
 };
 
 }  // namespace carril::fw
