@@ -116,6 +116,9 @@ TEST(LayeredCostmapTest, QueriesByWorldPointAndFootprint) {
   EXPECT_EQ(cm.footprint_cost(Pose2{1.68, 0.025, 0.0}, 0.3, 0.01), cost::kInscribed);
   EXPECT_EQ(cm.footprint_cost(Pose2{1.0, 0.025, kPi / 2}, 0.01, 0.3), cost::kFree);
   EXPECT_EQ(cm.footprint_cost(Pose2{1.0, 0.025, 0.0}, 0.03, 0.3), cost::kUnknown);  // rows off 0
+  // A thin rectangle at 45 deg whose axis runs through the lethal cell's centre: lethal only if
+  // the rotation is applied.
+  EXPECT_EQ(cm.footprint_cost(Pose2{1.8, -0.2, kPi / 4}, 0.4, 0.02), cost::kLethal);
   // Half outside the window: unknown.
   EXPECT_EQ(cm.footprint_cost(Pose2{-2.9, 0.025, 0.0}, 0.3, 0.1), cost::kUnknown);
 }
