@@ -1,0 +1,175 @@
+#include "firmware/mapping/ObstacleLayer.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "firmware/mapping/CostValues.hpp"
+#include "firmware/mapping/GridRay.hpp"
+
+namespace carril::fw {
+
+namespace {
+// Scan values are classified by their bits before any arithmetic: a signalling NaN from a corrupt
+// frame would trap on its first comparison or float-to-double conversion.
+constexpr std::uint32_t kExpMask = 0x7F800000U, kSignBit = 0x80000000U;
+bool finite_bits(float f) {
+  return (std::bit_cast<std::uint32_t>(f) & kExpMask) != kExpMask;
+}
+bool is_plus_inf(float f) {
+  return std::bit_cast<std::uint32_t>(f) == kExpMask;
+}
+bool is_negative(float f) {
+  return (std::bit_cast<std::uint32_t>(f) & kSignBit) != 0;
+}
+}  // namespace
+
+Status ObstacleLayerConfig::validate() const {
+  return Checks("costmap.obstacle")
+      .range("obstacle_max_range_m", obstacle_max_range_m, 0.1, 100.0, "m")
+      .range("raytrace_max_range_m", raytrace_max_range_m, 0.1, 100.0, "m")
+      .range("raytrace_min_range_m", raytrace_min_range_m, 0.0, 100.0, "m")
+      .fail_if(!(raytrace_min_range_m < raytrace_max_range_m), "raytrace_min_range_m",
+               "must be below raytrace_max_range_m")
+      .range("clear_scans", clear_scans, 1, 200, "scans")
+      .range("decay_s", decay_s, 0.0, 3000.0, "s")
+      .result();
+}
+
+bool ObstacleLayer::init(const ObstacleLayerConfig& cfg, int nx, int ny, double resolution_m) {
+  cfg_ = cfg;
+  scan_counter_ = 0;
+  decayed_once_ = false;
+  return cost_.init(nx, ny, resolution_m, cost::kUnknown) &&
+         state_.init(nx, ny, resolution_m, CellState{});
+}
+
+void ObstacleLayer::recenter(double x, double y) {
+  cost_.recenter(x, y);
+  state_.recenter(x, y);
+}
+
+void ObstacleLayer::clear() {
+  cost_.clear();
+  state_.clear();
+}
+
+// Clears the cells from (x0, y0) to (x1, y1) [m], without the end cell when keep_end (it holds
+// the return that ended the beam). Counts at most one miss per lethal cell and scan.
+void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool keep_end) {
+  const double res = cost_.resolution();
+  const int nx = cost_.nx(), ny = cost_.ny();
+  // The window box, shrunk by a hair so that floor() of a clipped point stays inside.
+  const double eps = 1e-6 * res;
+  bool end_clipped = false;
+  if (!grid::clip_segment(x0, y0, x1, y1, cost_.origin_x(), cost_.origin_y(),
+                          cost_.origin_x() + nx * res - eps, cost_.origin_y() + ny * res - eps,
+                          end_clipped)) {
+    return;
+  }
+  const int lo_x = cost_.origin_cx(), lo_y = cost_.origin_cy();
+  const int cx0 = std::clamp(cost_.cell_of(x0), lo_x, lo_x + nx - 1);
+  const int cy0 = std::clamp(cost_.cell_of(y0), lo_y, lo_y + ny - 1);
+  const int cx1 = std::clamp(cost_.cell_of(x1), lo_x, lo_x + nx - 1);
+  const int cy1 = std::clamp(cost_.cell_of(y1), lo_y, lo_y + ny - 1);
+  std::uint8_t* cost = grid::storage_base(cost_);
+  CellState* state = grid::storage_base(state_);
+  const std::uint8_t scan = scan_counter_;
+  grid::trace_line(cx0, cy0, cx1, cy1, nx, ny, end_clipped || !keep_end, [&](std::size_t i) {
+    if (cost[i] != cost::kLethal) {
+      cost[i] = cost::kFree;
+      return;
+    }
+    CellState& s = state[i];
+    if (s.last_miss == scan) return;  // already counted in this scan
+    s.last_miss = scan;
+    if (s.misses_left > 0) --s.misses_left;
+    if (s.misses_left == 0) cost[i] = cost::kFree;
+  });
+}
+
+ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose2& sensor_pose) {
+  ObstacleUpdateStats st;
+  const int n = std::min<int>(scan.count, hal::kMaxScanBeams);
+  if (!cost_.ready() || !std::isfinite(sensor_pose.x) || !std::isfinite(sensor_pose.y) ||
+      !std::isfinite(sensor_pose.yaw) || !finite_bits(scan.angle_min_rad) ||
+      !finite_bits(scan.angle_increment_rad)) {
+    st.ignored = n;
+    return st;
+  }
+  ++scan_counter_;
+  const std::uint16_t now_ds = std::uint16_t((scan.stamp_ns / 100'000'000) & 0xFFFF);
+  // A return is a measurement only between the sensor's limits; with no limits given, any
+  // positive range is.
+  const double range_min = finite_bits(scan.range_min_m) ? double(scan.range_min_m) : 0.0;
+  const double range_max = finite_bits(scan.range_max_m) && scan.range_max_m > 0.0F
+                               ? double(scan.range_max_m)
+                               : HUGE_VAL;
+  // "Nothing within range_max" (+inf, or beyond range_max) clears to the clearing range, but no
+  // farther than the sensor could see.
+  const double free_to = std::min(cfg_.raytrace_max_range_m, range_max);
+  const double rmin = cfg_.raytrace_min_range_m;
+  int n_hits = 0;
+  for (int b = 0; b < n; ++b) {
+    const float rf = scan.ranges_m[std::size_t(b)];
+    // NaN, -inf, 0 and negatives say nothing about free space; +inf says "nothing in range".
+    const bool inf = is_plus_inf(rf);
+    if (!inf && (!finite_bits(rf) || is_negative(rf) || rf == 0.0F || double(rf) < range_min)) {
+      ++st.ignored;
+      continue;
+    }
+    const double r = inf ? HUGE_VAL : double(rf);
+    const double a =
+        sensor_pose.yaw + double(scan.angle_min_rad) + b * double(scan.angle_increment_rad);
+    const double c = std::cos(a), s = std::sin(a);
+    const bool is_return = !inf && r <= range_max;
+    const double end = is_return ? std::min(r, cfg_.raytrace_max_range_m) : free_to;
+    // The return's own cell is kept when the ray reaches it.
+    const bool keep_end = is_return && r <= cfg_.raytrace_max_range_m;
+    if (end > rmin) {
+      clear_ray(sensor_pose.x + rmin * c, sensor_pose.y + rmin * s, sensor_pose.x + end * c,
+                sensor_pose.y + end * s, keep_end);
+    }
+    if (is_return && r <= cfg_.obstacle_max_range_m) {
+      int cx = 0, cy = 0;
+      if (cost_.world_to_cell(sensor_pose.x + r * c, sensor_pose.y + r * s, cx, cy)) {
+        hits_[std::size_t(2 * n_hits)] = cx;
+        hits_[std::size_t(2 * n_hits + 1)] = cy;
+        ++n_hits;
+      }
+      ++st.marked;
+    } else {
+      ++st.cleared;
+    }
+  }
+  // Marking after all the clearing: a cell hit by one beam and crossed by a neighbour (a wall
+  // seen at a grazing angle) stays lethal, and its miss count is re-armed.
+  const auto clear_scans = std::uint8_t(cfg_.clear_scans);
+  for (int h = 0; h < n_hits; ++h) {
+    const int cx = hits_[std::size_t(2 * h)], cy = hits_[std::size_t(2 * h + 1)];
+    cost_.at(cx, cy) = cost::kLethal;
+    CellState& s = state_.at(cx, cy);
+    s.misses_left = clear_scans;
+    s.last_miss = scan_counter_;
+    s.hit_time_ds = now_ds;
+  }
+  if (cfg_.decay_s > 0.0 && (!decayed_once_ || now_ds != last_decay_ds_)) decay(now_ds);
+  return st;
+}
+
+// Lethal cells whose last hit is decay_s old become unknown: nothing has confirmed them since.
+void ObstacleLayer::decay(std::uint16_t now_ds) {
+  decayed_once_ = true;
+  last_decay_ds_ = now_ds;
+  const auto max_age = std::uint16_t(std::lround(cfg_.decay_s * 10.0));
+  std::uint8_t* cost = grid::storage_base(cost_);
+  const CellState* state = grid::storage_base(state_);
+  const std::size_t n = std::size_t(cost_.nx()) * std::size_t(cost_.ny());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cost[i] == cost::kLethal && std::uint16_t(now_ds - state[i].hit_time_ds) >= max_age) {
+      cost[i] = cost::kUnknown;
+    }
+  }
+}
+
+}  // namespace carril::fw
