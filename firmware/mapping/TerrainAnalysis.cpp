@@ -207,7 +207,19 @@ void TerrainAnalysis::compute(const RollingGrid<ElevationCell>& elevation, int l
   sliding_extrema(ex0, ey0, ex1, ey1, ks_, hmax_.get(), hmin_.get());
   // Frontier drops need the minimum over the larger box; only if it differs from the step box.
   const bool drops = kd_ > ks_;
-  if (drops) sliding_extrema(ex0, ey0, ex1, ey1, kd_, nullptr, dmin_.get());
+  if (drops) {  // row pass only: the column pass runs for frontier cells alone, below
+    for (int y = ey0; y < ey1; ++y) {
+      const std::size_t row = index(0, y);
+      for (int x = ex0; x < ex1; ++x) {
+        float mn = kBig;
+        const int lo = std::max(ex0, x - kd_), hi = std::min(ex1 - 1, x + kd_);
+        for (int i = lo; i <= hi; ++i)
+          if (obs_[row + std::size_t(i)] && height_[row + std::size_t(i)] < mn)
+            mn = height_[row + std::size_t(i)];
+        dmin_[row + std::size_t(x)] = mn;
+      }
+    }
+  }
 
   const double min_points = double(config_.min_points);
   const double min_spread = (config_.min_spread_m * inv_res) * (config_.min_spread_m * inv_res);
@@ -248,7 +260,12 @@ void TerrainAnalysis::compute(const RollingGrid<ElevationCell>& elevation, int l
         box(std::max(ex0, x - ks_), std::max(ey0, y - ks_), std::min(ex1 - 1, x + ks_),
             std::min(ey1 - 1, y + ks_), m);
         // A frontier: the step box is clipped by E's border or holds unobserved cells.
-        if (m.n < step_box) drop_[i] = std::max(0.0F, hc - dmin_[i]);
+        if (m.n < step_box) {
+          float mn = kBig;
+          for (int j = std::max(ey0, y - kd_); j <= std::min(ey1 - 1, y + kd_); ++j)
+            mn = std::min(mn, dmin_[index(x, j)]);
+          drop_[i] = std::max(0.0F, hc - mn);
+        }
       }
 
       box(std::max(ex0, x - kn_), std::max(ey0, y - kn_), std::min(ex1 - 1, x + kn_),
