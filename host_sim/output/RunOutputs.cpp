@@ -117,6 +117,7 @@ std::string summary_to_json(const RunSummary& s) {
     w.raw("mission_counters", counters.finish_inline());
   }
   w.integer("task_overrun_events", s.task_overrun_events);
+  w.integer("falls", s.falls);
   return w.finish();
 }
 

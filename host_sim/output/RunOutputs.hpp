@@ -55,6 +55,8 @@ struct RunSummary {
   // Throttled task-overrun events of the firmware (this host's compute time against each
   // task's budget: at most one per task and second).
   long task_overrun_events = 0;
+  // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
+  int falls = 0;
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).
