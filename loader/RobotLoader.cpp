@@ -130,11 +130,21 @@ void parse_traversability(const Node& m, TraversabilitySpec& t, bool all) {
   }
 }
 
+// Physical limits of the machine on rough ground (the simulator's terrain physics).
+void parse_terrain_limits(const Node& m, TerrainLimitsSpec& t, bool all) {
+  m.expect_map({"max_slope_deg", "max_step_up_m", "max_step_down_m"});
+  if (auto n = m.get("max_slope_deg", all)) t.max_slope_deg = n->number(Range::closed(1.0, 60.0));
+  if (auto n = m.get("max_step_up_m", all)) t.max_step_up_m = n->number(Range::closed(0.005, 1.0));
+  if (auto n = m.get("max_step_down_m", all)) {
+    t.max_step_down_m = n->number(Range::closed(0.005, 2.0));
+  }
+}
+
 namespace {
 
 RobotSpec parse_preset(const Node& root) {
   root.expect_map({"name", "drive", "body", "wheels", "cruise_speed_mps", "control_rate_hz",
-                   "camera", "lidar", "imu", "limits", "traversability"});
+                   "camera", "lidar", "imu", "limits", "traversability", "terrain_limits"});
   RobotSpec r;
   r.preset = strict::parse_name(root.at("name"));
   r.drive = root.at("drive").one_of({"mecanum", "differential"}) == "mecanum"
@@ -161,6 +171,7 @@ RobotSpec parse_preset(const Node& root) {
   }
   parse_limits(root.at("limits"), r.limits, true);
   parse_traversability(root.at("traversability"), r.traversability, true);
+  parse_terrain_limits(root.at("terrain_limits"), r.terrain_limits, true);
   const Node cruise = root.at("cruise_speed_mps");
   r.cruise_speed_mps = cruise.number(Range::closed(0.01, 5.0));
   if (r.cruise_speed_mps > r.limits.max_speed_mps) {

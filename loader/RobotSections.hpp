@@ -15,6 +15,7 @@ void parse_camera(const strict::Node& m, CameraSpec& c, bool all);
 void parse_lidar(const strict::Node& m, LidarSpec& l, bool all);
 void parse_limits(const strict::Node& m, LimitsSpec& l, bool all);
 void parse_traversability(const strict::Node& m, TraversabilitySpec& t, bool all);
+void parse_terrain_limits(const strict::Node& m, TerrainLimitsSpec& t, bool all);
 
 // The camera must see the floor: every image row below the horizon and the image centre on the
 // floor within 20 m. Reported on `where`.tilt_deg (`where` is the block that set the values).

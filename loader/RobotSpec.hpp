@@ -56,6 +56,14 @@ struct TraversabilitySpec {
   double max_step_down_m = 0.10;  // deepest drop it drives down [m]
 };
 
+// What the real machine can physically drive over (not the planner's limits, which keep a
+// margin): the simulator blocks the robot beyond the first two and counts a fall beyond the third.
+struct TerrainLimitsSpec {
+  double max_slope_deg = 15.0;    // steepest ground it can drive onto, along its heading [deg]
+  double max_step_up_m = 0.05;    // highest step it can climb [m]
+  double max_step_down_m = 0.10;  // deepest drop it can drive off without falling [m]
+};
+
 // A robot description (config/robots/<name>.yaml); in the simulator, after the scenario's
 // overrides are applied.
 struct RobotSpec {
@@ -74,6 +82,7 @@ struct RobotSpec {
   ImuSpec imu;
   LimitsSpec limits;
   TraversabilitySpec traversability;
+  TerrainLimitsSpec terrain_limits;
   Pose2 start;  // set by a scenario; the robot target leaves it at the origin
 };
 

@@ -59,7 +59,11 @@ void SimRun::publish_sensors(hal::TimeNs t) {
   hal::ImuSample imu;
   imu.stamp_ns = t;
   imu.valid = true;
-  imu.yaw_rate_radps = float(wz);  // flat floor: roll and pitch stay zero until terrain is modelled
+  imu.yaw_rate_radps = float(wz);
+  // From the ground under the wheels (pitch positive nose up, roll positive left side up).
+  const Attitude att = w.attitude();
+  imu.roll_rad = float(att.roll_rad);
+  imu.pitch_rad = float(att.pitch_rad);
   topo_.imu.publish(imu);
   for (int i = 0; i < w.wheel_count(); ++i) {
     topo_.drives.set_feedback(i, t, w.wheel_speed(i), w.wheel_position(i));
@@ -108,6 +112,7 @@ bool SimRun::step() {
     metrics_.add_collision();
     collisions_.push_back({s.t_s, c.x, c.y});
   }
+  while (metrics_.falls() < topo_.world.falls()) metrics_.add_fall();
   drain_events();
 
   if (metrics_.end_reached()) {
@@ -167,6 +172,7 @@ RunSummary SimRun::summary(double wall_time_s) {
   r.tick_compute_max_us = tel.tick_max_us;
   r.heap_allocations_after_init = long(allocations_in_ticks());
   r.collisions = metrics_.collisions();
+  r.falls = metrics_.falls();
   r.progress = metrics_.progress();
   r.laps = metrics_.laps();
   r.cross_track_rms_m = metrics_.cross_track_rms_m();

@@ -27,6 +27,8 @@ class RunMetrics {
   // (0 when the scenario has no reference path).
   double add(const TickSample& s);
   void add_collision() { ++collisions_; }
+  // A drop beyond the robot's limit driven off (SimWorld counts it as a collision too).
+  void add_fall() { ++falls_; }
 
   // True once the robot has stopped (speed < 1 cm/s, |wz| < 0.02 rad/s) in its END state with
   // its centre within 0.25 m of an end mark.
@@ -34,6 +36,7 @@ class RunMetrics {
   std::optional<double> end_stop_error_m() const { return end_error_m_; }
 
   int collisions() const { return collisions_; }
+  int falls() const { return falls_; }
   double progress() const;  // [0, 1]
   int laps() const;
   double cross_track_rms_m() const;  // over following ticks; 0 if none
@@ -60,6 +63,7 @@ class RunMetrics {
   long following_ticks_ = 0;
   double max_abs_wz_ = 0.0;
   int collisions_ = 0;
+  int falls_ = 0;
   std::optional<double> end_error_m_;
 };
 

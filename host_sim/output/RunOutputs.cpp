@@ -126,6 +126,7 @@ std::string summary_to_json(const RunSummary& s) {
   w.num("goal_yaw_error_deg", s.goal_yaw_error_deg);
   w.integer("replans", s.replans);
   w.integer("cells_checked", s.cells_checked);
+  w.integer("falls", s.falls);
   return w.finish();
 }
 

@@ -62,6 +62,8 @@ struct RunSummary {
   std::optional<double> goal_error_m, goal_yaw_error_deg;  // [m], [deg]
   long replans = 0;
   int cells_checked = 0;  // expect.cells entries checked against the costmap
+  // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
+  int falls = 0;
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).

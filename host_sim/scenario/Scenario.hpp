@@ -51,6 +51,7 @@ struct ObstacleSpec {
   double yaw_rad = 0.0;
   double size_x_m = 1.0, size_y_m = 1.0;  // box, full lengths [m]
   double radius_m = 0.5;                  // cylinder [m]
+  double height_m = 1.0;  // top above the ground under its centre [m] (the 3D lidar sees it)
 };
 
 struct WallSpec {
@@ -58,7 +59,7 @@ struct WallSpec {
   double thickness_m = 0.1;
 };
 
-enum class TerrainType { Ramp, Step };
+enum class TerrainType { Ramp, Step, Trench };
 
 struct TerrainSpec {
   TerrainType type = TerrainType::Ramp;
@@ -67,6 +68,19 @@ struct TerrainSpec {
   double length_m = 1.0, width_m = 1.0;
   double angle_deg = 0.0;  // ramp
   double height_m = 0.0;   // step
+  // Ramp (docs/scenario-format.md): rises at angle_deg over length_m, then at angle2_deg over
+  // length2_m (0: no second section), then a flat top of top_m, then (descend) down symmetrically.
+  double angle2_deg = 0.0;
+  double length2_m = 0.0;  // [m]
+  double top_m = 0.0;      // [m]
+  bool descend = true;
+  double depth_m = 0.0;  // trench: how far below the floor [m], > 0
+  // Length of the ground the feature covers along its own x [m] (a ramp's is more than length_m).
+  double footprint_length_m() const {
+    if (type != TerrainType::Ramp) return length_m;
+    const double rise = length_m + length2_m;
+    return (descend ? 2.0 * rise : rise) + top_m;
+  }
 };
 
 // A costmap cell's label a run must end with (goto and terrain scenarios): the cell under the

@@ -28,6 +28,12 @@ using strict::Range;
 const Range kCoord = Range::closed(-1.0e4, 1.0e4);  // world coordinates [m]
 const Range kYawDeg = Range::closed(-360.0, 360.0);
 const Range kSize = Range::closed(0.01, 100.0);  // obstacle and terrain sizes [m]
+const Range kObstacleHeight = Range::closed(0.01, 10.0);  // [m]
+const Range kRampAngleDeg = Range::closed(0.5, 30.0);
+const Range kRampTop = Range::closed(0.0, 100.0);      // [m]
+const Range kStepHeight = Range::closed(-0.5, 0.5);    // [m], |h| >= kMinStepM
+const Range kTrenchDepth = Range::closed(0.005, 1.0);  // [m]
+constexpr double kMinStepM = 0.005;                    // a smaller step is no step [m]
 
 constexpr double kArcStepM = 0.02;  // max spacing of discretised arc points [m]
 constexpr double kMaxArcSweepDeg = 3600.0;
@@ -76,7 +82,7 @@ std::vector<Vec2> parse_points(const Node& n, std::size_t& budget, const std::st
 // ---- Scenario sections ----
 
 void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot) {
-  m.expect_map({"preset", "start", "camera", "lidar", "limits"});
+  m.expect_map({"preset", "start", "camera", "lidar", "limits", "terrain_limits"});
   const Node preset = m.at("preset");
   const std::string name = preset.one_of({"campero", "pioneer3at"});
   const std::string file = robots_dir + "/" + name + ".yaml";
@@ -106,6 +112,7 @@ void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot)
   }
   if (auto n = m.get("lidar")) loader::parse_lidar(*n, robot.lidar, false);
   if (auto n = m.get("limits")) loader::parse_limits(*n, robot.limits, false);
+  if (auto n = m.get("terrain_limits")) loader::parse_terrain_limits(*n, robot.terrain_limits, false);
 }
 
 std::vector<Vec2> discretise_arc(Vec2 c, double r, double start_deg, double end_deg) {
@@ -209,7 +216,7 @@ ObstacleSpec parse_obstacle(const Node& m) {
   // The shape decides which keys are allowed, so it is read before the key check.
   const std::string shape = m.at("shape").one_of({"box", "cylinder"});
   if (shape == "box") {
-    m.expect_map({"shape", "x", "y", "yaw_deg", "size_m"});
+    m.expect_map({"shape", "x", "y", "yaw_deg", "size_m", "height_m"});
     o.shape = ObstacleShape::Box;
     const Node size = m.at("size_m");
     const auto s = size.items();
@@ -220,11 +227,12 @@ ObstacleSpec parse_obstacle(const Node& m) {
     o.size_y_m = s[1].number(kSize);
     if (auto n = m.get("yaw_deg")) o.yaw_rad = deg2rad(n->number(kYawDeg));
   } else {
-    m.expect_map({"shape", "x", "y", "radius_m"});
+    m.expect_map({"shape", "x", "y", "radius_m", "height_m"});
     o.shape = ObstacleShape::Cylinder;
     o.radius_m = m.at("radius_m").number(Range::closed(0.01, 50.0));
   }
   o.center = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
+  if (auto n = m.get("height_m")) o.height_m = n->number(kObstacleHeight);
   return o;
 }
 
@@ -241,15 +249,36 @@ WallSpec parse_wall(const Node& m, std::size_t& budget) {
 
 TerrainSpec parse_terrain(const Node& m) {
   TerrainSpec t;
-  const std::string type = m.at("type").one_of({"ramp", "step"});
+  const std::string type = m.at("type").one_of({"ramp", "step", "trench"});
   if (type == "ramp") {
-    m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "angle_deg"});
+    m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "angle_deg", "angle2_deg",
+                  "length2_m", "top_m", "descend"});
     t.type = TerrainType::Ramp;
-    t.angle_deg = m.at("angle_deg").number(Range::closed(0.5, 30.0));
-  } else {
+    t.angle_deg = m.at("angle_deg").number(kRampAngleDeg);
+    // The second section comes whole: an angle without a length (or the reverse) is a mistake.
+    const auto a2 = m.get("angle2_deg");
+    const auto l2 = m.get("length2_m");
+    if (a2 && !l2) m.child_path("length2_m").fail("missing required key (angle2_deg is given)");
+    if (l2 && !a2) m.child_path("angle2_deg").fail("missing required key (length2_m is given)");
+    if (a2) {
+      t.angle2_deg = a2->number(kRampAngleDeg);
+      t.length2_m = l2->number(kSize);
+    }
+    if (auto n = m.get("top_m")) t.top_m = n->number(kRampTop);
+    if (auto n = m.get("descend")) t.descend = n->boolean();
+  } else if (type == "step") {
     m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "height_m"});
     t.type = TerrainType::Step;
-    t.height_m = m.at("height_m").number(Range::closed(0.005, 0.5));
+    const Node h = m.at("height_m");
+    t.height_m = h.number(kStepHeight);
+    if (std::abs(t.height_m) < kMinStepM) {
+      h.expected("a number in [-0.5, -0.005] or [0.005, 0.5] (a raised platform or a pit)",
+                 h.raw());
+    }
+  } else {
+    m.expect_map({"type", "x", "y", "yaw_deg", "length_m", "width_m", "depth_m"});
+    t.type = TerrainType::Trench;
+    t.depth_m = m.at("depth_m").number(kTrenchDepth);
   }
   t.center = {m.at("x").number(kCoord), m.at("y").number(kCoord)};
   if (auto n = m.get("yaw_deg")) t.yaw_rad = deg2rad(n->number(kYawDeg));

@@ -66,6 +66,9 @@ SimWorld::SimWorld(const Scenario& scenario)
   fd.density = float(r.mass_kg / (r.length_m * r.width_m));
   fd.friction = 0.3F;
   robot_->CreateFixture(&fd);
+  height_ = std::make_unique<HeightField>(scenario);
+  terrain_ = std::make_unique<TerrainContact>(*height_, r);
+  terrain_->reset(pose());
 }
 
 SimWorld::~SimWorld() {
@@ -105,7 +108,21 @@ void SimWorld::step(double dt) {
   const float c = std::cos(yaw), s = std::sin(yaw);
   robot_->SetLinearVelocity(b2Vec2(float(c * t.vx - s * t.vy), float(s * t.vx + c * t.vy)));
   robot_->SetAngularVelocity(float(t.wz));
+  const b2Vec2 p0 = robot_->GetPosition();
+  const float a0 = robot_->GetAngle();
   world_->Step(float(dt), 8, 3);
+  // The ground: a step or slope beyond the robot's limits stops it where it was.
+  const TerrainStep ts = terrain_->move_to(pose());
+  if (ts.blocked) {
+    robot_->SetTransform(p0, a0);
+    robot_->SetLinearVelocity(b2Vec2(0.0F, 0.0F));
+    robot_->SetAngularVelocity(0.0F);
+  }
+  if (ts.new_collision) {
+    ++collisions_;
+    new_contacts_.push_back({ts.where.x, ts.where.y});
+  }
+  if (ts.new_fall) ++falls_;
 }
 
 Pose2 SimWorld::pose() const {

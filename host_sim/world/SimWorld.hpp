@@ -10,6 +10,8 @@
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/world/HeightField.hpp"
+#include "host_sim/world/TerrainContact.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
@@ -39,6 +41,12 @@ class SimWorld {
   double wheel_position(int i) const { return wheel_pos_[std::size_t(i)]; }  // [rad]
 
   int collisions() const { return collisions_; }
+  // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
+  int falls() const { return falls_; }
+  // Roll, pitch (positive nose up) and height of the body from the ground under its wheels.
+  Attitude attitude() const { return terrain_->attitude(); }
+  // The surface (terrain and obstacle tops), for the 3D lidar.
+  const HeightField& height_field() const { return *height_; }
   // Contact starts since the last call (for plotting).
   std::vector<ContactStart> take_new_contacts();
 
@@ -58,6 +66,9 @@ class SimWorld {
   std::array<float, hal::kMaxWheels> wheel_speed_{};
   std::array<double, hal::kMaxWheels> wheel_pos_{};
   int collisions_ = 0;
+  int falls_ = 0;
+  std::unique_ptr<HeightField> height_;
+  std::unique_ptr<TerrainContact> terrain_;
   std::vector<ContactStart> new_contacts_;
 };
 

@@ -28,6 +28,7 @@ camera: {x_m: 0.49, y_m: 0.01, z_m: 0.90, tilt_deg: 55.0, hfov_deg: 54.2, width:
 lidar: {x_m: 0.45, y_m: -0.35, yaw_deg: -45.0, fov_deg: 270.0, beams: 541, range_min_m: 0.05, range_max_m: 20.0, rate_hz: 20, noise_std_m: 0.01}
 limits: {max_speed_mps: 1.5, max_yaw_rate_radps: 1.5, max_accel_mps2: 1.0, max_wheel_speed_radps: 12.0, max_wheel_accel_radps2: 25.0}
 traversability: {max_slope_deg: 5.0, max_step_up_m: 0.02, max_step_down_m: 0.05}
+terrain_limits: {max_slope_deg: 10.0, max_step_up_m: 0.03, max_step_down_m: 0.08}
 )";
 
 const std::string kScenario = R"(name: corner
@@ -46,11 +47,14 @@ marks:
 obstacles:
   - {shape: box, x: 6, y: -3, yaw_deg: 30, size_m: [1.01, 1.02]}
   - {shape: cylinder, x: 6.5, y: 3, radius_m: 0.5}
+  - {shape: box, x: 7, y: -4.5, size_m: [0.5, 0.5], height_m: 1.13}
 walls:
   - {points: [[-5, -5], [8, -5.004]], thickness_m: 0.1}
 terrain:
   - {type: ramp, x: -3, y: 3.005, yaw_deg: 10, length_m: 1.03, width_m: 1.04, angle_deg: 5}
   - {type: step, x: -3.5, y: -3, length_m: 1.05, width_m: 1.06, height_m: 0.05}
+  - {type: ramp, x: -7, y: 3, length_m: 1.07, width_m: 1.08, angle_deg: 6, angle2_deg: 12, length2_m: 1.09, top_m: 0.4, descend: false}
+  - {type: trench, x: -7, y: -3, length_m: 1.11, width_m: 1.12, depth_m: 0.3}
 expect: {end_reached: true, max_collisions: 0, max_cross_track_rms_m: 0.05, min_progress: 0.5, min_laps: 0, max_end_stop_error_m: 0.1}
 )";
 
@@ -280,6 +284,33 @@ std::vector<Corner> corners() {
        {{"x: -3.5, y: -3", "x: -3.5, y: -300"}}},
       {'S', "ramp_angle", "angle_deg: 5", "angle_deg: ", "0.5", "30"},
       {'S', "step_height", "height_m: 0.05", "height_m: ", "0.005", "0.5"},
+      {'S', "pit_depth", "height_m: 0.05", "height_m: ", "-0.5", "-0.005"},
+      {'S', "ramp2_angle", "angle2_deg: 12", "angle2_deg: ", "0.5", "30"},
+      {'S',
+       "ramp2_length",
+       "length2_m: 1.09",
+       "length2_m: ",
+       "0.01",
+       "100",
+       {},
+       {},
+       {},
+       {{"x: -7, y: 3", "x: -7, y: 400"}}},
+      {'S',
+       "ramp_top",
+       "top_m: 0.4",
+       "top_m: ",
+       "0",
+       "100",
+       {},
+       {},
+       {},
+       {{"x: -7, y: 3", "x: -7, y: 400"}}},
+      {'S', "trench_depth", "depth_m: 0.3", "depth_m: ", "0.005", "1"},
+      {'S', "obstacle_height", "height_m: 1.13", "height_m: ", "0.01", "10"},
+      {'P', "max_slope", "max_slope_deg: 10.0", "max_slope_deg: ", "1", "60"},
+      {'P', "max_step_up", "max_step_up_m: 0.03", "max_step_up_m: ", "0.005", "1"},
+      {'P', "max_step_down", "max_step_down_m: 0.08", "max_step_down_m: ", "0.005", "2"},
       // Expect.
       {'S', "max_collisions", "max_collisions: 0", "max_collisions: ", "0", "1000000"},
       {'S', "cross_track", "max_cross_track_rms_m: 0.05", "max_cross_track_rms_m: ", tiny, "10"},

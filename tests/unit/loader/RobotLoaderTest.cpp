@@ -82,5 +82,32 @@ TEST(RobotLoader, StrictErrorsNameFileLineAndKey) {
       << missing.error;
 }
 
+TEST(RobotLoader, TerrainLimitsAreRequiredAndChecked) {
+  const RobotSpec p3 = test::robot("pioneer3at");
+  EXPECT_EQ(p3.terrain_limits.max_slope_deg, 19.0);
+  EXPECT_EQ(p3.terrain_limits.max_step_up_m, 0.10);
+  EXPECT_EQ(p3.terrain_limits.max_step_down_m, 0.15);
+  const RobotSpec campero = test::robot("campero");
+  EXPECT_EQ(campero.terrain_limits.max_slope_deg, 10.0);
+  const std::string line = "terrain_limits: {max_slope_deg: 10.0, max_step_up_m: 0.03, "
+                           "max_step_down_m: 0.08}";
+  const Loaded missing = load(edit(kCampero, line, ""));
+  EXPECT_NE(missing.error.find("terrain_limits: missing required key"), std::string::npos)
+      << missing.error;
+  const Loaded partial = load(edit(kCampero, "max_step_up_m: 0.03, ", ""));
+  EXPECT_NE(partial.error.find("terrain_limits.max_step_up_m: missing required key"),
+            std::string::npos)
+      << partial.error;
+  const Loaded range = load(edit(kCampero, "max_slope_deg: 10.0", "max_slope_deg: 61"));
+  EXPECT_NE(range.error.find("terrain_limits.max_slope_deg: expected a number in [1, 60], got 61"),
+            std::string::npos)
+      << range.error;
+  const Loaded key = load(edit(kCampero, "max_step_down_m: 0.08", "max_step_down_m: 0.08, x: 1"));
+  EXPECT_NE(key.error.find("terrain_limits.x: unknown key (allowed: max_slope_deg, max_step_up_m, "
+                           "max_step_down_m)"),
+            std::string::npos)
+      << key.error;
+}
+
 }  // namespace
 }  // namespace carril::loader

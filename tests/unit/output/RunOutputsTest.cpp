@@ -101,7 +101,8 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "mission",
                                              "mission_status",
                                              "mission_counters",
-                                             "task_overrun_events"};
+                                             "task_overrun_events",
+                                             "falls"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
   EXPECT_NE(json.find("\"progress 0.5 < 0.9\""), std::string::npos);

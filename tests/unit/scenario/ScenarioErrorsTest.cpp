@@ -49,7 +49,7 @@ TEST(ScenarioErrors, UnknownKeyNestedListsAllowedKeys) {
                                                           "color, width_m, points, arc)"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "  camera: {noise_std", "  camerra: {noise_std"),
                          {"robot.camerra: unknown key (allowed: preset, start, camera, lidar, "
-                          "limits)"}));
+                          "limits, terrain_limits)"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "seed: 7", "sed: 7"), {"sed: unknown key"}));
 }
 
@@ -269,7 +269,7 @@ TEST(ScenarioErrors, BadPoints) {
 TEST(ScenarioErrors, ShapeSpecificKeys) {
   EXPECT_TRUE(fails_with(edit(kFullYaml, "size_m: [1.0, 2.0]", "size_m: [1.0, 2.0], radius_m: 1"),
                          {"obstacles[0].radius_m: unknown key (allowed: shape, x, y, yaw_deg, "
-                          "size_m)"}));
+                          "size_m, height_m)"}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "{shape: cylinder", "{shape: cone"),
                          {"obstacles[1].shape: expected one of box, cylinder, got \"cone\""}));
   EXPECT_TRUE(fails_with(edit(kFullYaml, "height_m: 0.2", "angle_deg: 3"),
