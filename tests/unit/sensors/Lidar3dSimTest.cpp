@@ -224,7 +224,8 @@ TEST(Lidar3dSimTest, DropProbabilityLosesAboutThatFractionOfBeams) {
   EXPECT_EQ(render(c, floor).cloud->count, 0U);
 }
 
-// Range of the beam of ring `r` nearest to the sensor's azimuth `az_deg`, or NaN.
+// Range of the return at sensor azimuth az_deg and elevation elev_deg, or -1 if there is none
+// (not NaN: comparing NaN traps under the tests' floating-point exceptions).
 double range_at(const hal::PointCloud& cloud, double az_deg, double elev_deg) {
   for (std::uint32_t i = 0; i < cloud.count; ++i) {
     const hal::CloudPoint& p = cloud.points[i];
@@ -234,7 +235,7 @@ double range_at(const hal::PointCloud& cloud, double az_deg, double elev_deg) {
     if (daz > 180) daz = 360 - daz;
     if (daz < 0.05 && std::fabs(std::asin(double(p.z) / r) / kDeg - elev_deg) < 0.05) return r;
   }
-  return std::numeric_limits<double>::quiet_NaN();
+  return -1.0;
 }
 
 TEST(Lidar3dSimTest, NoseDownPitchBringsTheFloorAheadNearerAndBehindFarther) {
