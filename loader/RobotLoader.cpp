@@ -106,6 +106,60 @@ void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));
 }
 
+// The same bounds as sim::Lidar3dConfig::validate() (host_sim/sensors/Lidar3dSim.cpp).
+void parse_lidar3d(const Node& m, Lidar3dSpec& l, bool all) {
+  if (all) {
+    m.expect_map({"present", "x_m", "y_m", "z_m", "yaw_deg", "rings", "vertical_min_deg",
+                  "vertical_max_deg", "azimuths", "rate_hz", "range_min_m", "range_max_m",
+                  "noise_std_m", "drop_probability"});
+    // The block being there means fitted, unless it says `present: false`; then the rest is
+    // optional.
+    l.present = true;
+    if (auto n = m.get("present")) l.present = n->boolean();
+    all = l.present;
+  } else {
+    m.expect_map({"x_m", "y_m", "z_m", "yaw_deg", "rings", "vertical_min_deg", "vertical_max_deg",
+                  "azimuths", "rate_hz", "range_min_m", "range_max_m", "noise_std_m",
+                  "drop_probability"});
+  }
+  if (auto n = m.get("x_m", all)) l.x_m = n->number(kMount);
+  if (auto n = m.get("y_m", all)) l.y_m = n->number(kMount);
+  if (auto n = m.get("z_m", all)) l.z_m = n->number(Range::closed(0.05, 5.0));
+  if (auto n = m.get("yaw_deg", all)) l.yaw_deg = n->number(kYawDeg);
+  // rings x azimuths fits hal::kMaxCloudPoints (65536).
+  if (auto n = m.get("rings", all)) l.rings = static_cast<int>(n->integer(1, 128));
+  const auto az_n = m.get("azimuths", all);
+  if (az_n) l.azimuths = static_cast<int>(az_n->integer(1, 65536));
+  if (l.rings * l.azimuths > 65536) {
+    (az_n ? *az_n : m).expected("rings x azimuths at most 65536 (hal::kMaxCloudPoints); rings " +
+                                    std::to_string(l.rings) + " x azimuths " +
+                                    std::to_string(l.azimuths),
+                                std::to_string(l.rings * l.azimuths));
+  }
+  if (auto n = m.get("vertical_min_deg", all)) l.vertical_min_deg = n->number(Range::closed(-90.0, 90.0));
+  const auto vmax_n = m.get("vertical_max_deg", all);
+  if (vmax_n) l.vertical_max_deg = vmax_n->number(Range::closed(-90.0, 90.0));
+  if (l.rings > 1 && l.vertical_max_deg <= l.vertical_min_deg) {
+    (vmax_n ? *vmax_n : m).expected("a number in (vertical_min_deg = " +
+                                        strict::format_number(l.vertical_min_deg) + ", 90]",
+                                    strict::format_number(l.vertical_max_deg));
+  }
+  if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
+  const auto max_n = m.get("range_max_m", all);
+  const auto min_n = m.get("range_min_m", all);
+  if (max_n) l.range_max_m = max_n->number(Range::closed(0.5, 200.0));
+  if (min_n) l.range_min_m = min_n->number(Range::closed(0.0, 10.0));
+  if (l.range_min_m >= l.range_max_m) {
+    (min_n ? *min_n : max_n ? *max_n : m)
+        .expected("range_min_m below range_max_m = " + strict::format_number(l.range_max_m),
+                  strict::format_number(l.range_min_m));
+  }
+  if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));
+  if (auto n = m.get("drop_probability", all)) {
+    l.drop_probability = n->number(Range::closed(0.0, 1.0));
+  }
+}
+
 void parse_limits(const Node& m, LimitsSpec& l, bool all) {
   m.expect_map({"max_speed_mps", "max_yaw_rate_radps", "max_accel_mps2", "max_wheel_speed_radps",
                 "max_wheel_accel_radps2"});
@@ -144,7 +198,8 @@ namespace {
 
 RobotSpec parse_preset(const Node& root) {
   root.expect_map({"name", "drive", "body", "wheels", "cruise_speed_mps", "control_rate_hz",
-                   "camera", "lidar", "imu", "limits", "traversability", "terrain_limits"});
+                   "camera", "lidar", "imu", "limits", "traversability", "terrain_limits",
+                   "lidar3d"});
   RobotSpec r;
   r.preset = strict::parse_name(root.at("name"));
   r.drive = root.at("drive").one_of({"mecanum", "differential"}) == "mecanum"
@@ -165,6 +220,7 @@ RobotSpec parse_preset(const Node& root) {
   parse_camera(camera, r.camera, true);
   check_camera_view(camera, r.camera);
   parse_lidar(root.at("lidar"), r.lidar, true);
+  if (auto l3 = root.get("lidar3d")) parse_lidar3d(*l3, r.lidar3d, true);
   if (auto imu = root.get("imu")) {
     imu->expect_map({"present"});
     r.imu.present = imu->at("present").boolean();

@@ -13,6 +13,8 @@ namespace carril::loader {
 // partial override, where every key is optional and `present` is not allowed.
 void parse_camera(const strict::Node& m, CameraSpec& c, bool all);
 void parse_lidar(const strict::Node& m, LidarSpec& l, bool all);
+// `lidar3d:` (with `all`, `present` is optional, true when the block is there).
+void parse_lidar3d(const strict::Node& m, Lidar3dSpec& l, bool all);
 void parse_limits(const strict::Node& m, LimitsSpec& l, bool all);
 void parse_traversability(const strict::Node& m, TraversabilitySpec& t, bool all);
 void parse_terrain_limits(const strict::Node& m, TerrainLimitsSpec& t, bool all);
