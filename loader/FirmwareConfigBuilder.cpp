@@ -79,6 +79,55 @@ BuildResult rejected(std::string error, const fw::Status& st) {
   return r;
 }
 
+// The costmap: built whenever a lidar is fitted (follow_line checks its bypass on it, goto plans
+// on it); the inscribed radius is the footprint's half width. Terrain (the 3D lidar's elevation
+// map) is built for goto only: follow_line keeps to its tape.
+void apply_mapping(const RobotSpec& r, bool goto_mission, fw::FirmwareConfig& c) {
+  fw::MappingConfig& m = c.mapping;
+  m.enabled = r.lidar.present || (goto_mission && r.lidar3d.present);
+  m.lidar_x_m = r.lidar.x_m;
+  m.lidar_y_m = r.lidar.y_m;
+  m.lidar_yaw_rad = r.lidar.yaw_deg * kDeg;
+  m.costmap.inflation.inscribed_radius_m = 0.5 * r.width_m;
+  m.costmap.inflation.inflation_radius_m = std::max(0.55, 0.5 * r.width_m + 0.3);
+  m.terrain = goto_mission && r.lidar3d.present;
+  if (!m.terrain) return;
+  m.lidar3d.x_m = r.lidar3d.x_m;
+  m.lidar3d.y_m = r.lidar3d.y_m;
+  m.lidar3d.z_m = r.lidar3d.z_m;
+  m.lidar3d.yaw_rad = r.lidar3d.yaw_deg * kDeg;
+  m.elevation.size_x_m = m.costmap.size_x_m;
+  m.elevation.size_y_m = m.costmap.size_y_m;
+  m.elevation.resolution_m = m.costmap.resolution_m;
+  m.elevation.min_range_m = std::max(r.lidar3d.range_min_m, 0.5 * std::hypot(r.length_m, r.width_m));
+  m.elevation.max_range_m = r.lidar3d.range_max_m;
+  m.profile.max_slope_deg = r.traversability.max_slope_deg;
+  m.profile.max_step_up_m = r.traversability.max_step_up_m;
+  m.profile.max_step_down_m = r.traversability.max_step_down_m;
+  // The blind zone round the start: where the lowest ring cannot reach the ground.
+  const double z = r.lidar3d.z_m;
+  const double lowest = std::max(1e-3, -r.lidar3d.vertical_min_deg * kDeg);
+  const double rmin = r.lidar3d.range_min_m;
+  const double blind =
+      std::max(z / std::tan(lowest), rmin > z ? std::sqrt(rmin * rmin - z * z) : 0.0);
+  m.start_free_radius_m = std::max(0.5 * std::hypot(r.length_m, r.width_m), blind) + 0.2;
+}
+
+// goto: the goal (odometry frame), the speed and the follower.
+void apply_goto(const MissionSpec& mission, fw::FirmwareConfig& c) {
+  c.mission = fw::MissionKind::Goto;
+  fw::GotoConfig& g = c.goto_mission;
+  g.goal = {mission.goal_x_m, mission.goal_y_m, mission.goal_yaw_deg * kDeg};
+  g.speed_mps = mission.speed_mps;
+  g.follower = mission.follower == "vff" ? fw::GotoFollower::Vff : fw::GotoFollower::PurePursuit;
+  g.planner.allow_unknown = mission.allow_unknown;
+  g.pure_pursuit.cruise_speed_mps = mission.speed_mps;
+  g.vff.cruise_speed_mps = mission.speed_mps;
+  g.pure_pursuit.max_yaw_rate_radps =
+      std::min(g.pure_pursuit.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
+  g.vff.max_yaw_rate_radps = std::min(g.vff.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
+}
+
 }  // namespace
 
 fw::DriveGeometry drive_geometry(const RobotSpec& robot) {
@@ -141,7 +190,7 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   // pid has a speed for straights and one for curves: the mission's speed and 80% of it.
   st.pid_straight.speed_mps = mission.speed_mps;
   st.pid_curve.speed_mps = 0.8 * mission.speed_mps;
-  apply_mapping(r, c);
+  apply_mapping(r, mission.type == "goto", c);
   if (mission.type == "goto") apply_goto(mission, c);
   fw::apply_sensor_rates(c);
   if (const fw::Status s = c.validate(); !s) {

@@ -11,7 +11,6 @@ Status MappingConfig::validate() const {
   c.nested(costmap.validate())
       .range("master_rate_hz", master_rate_hz, 0.1, 100.0, "Hz")
       .range("start_free_radius_m", start_free_radius_m, 0.0, 10.0, "m")
-      .range("cloud_points_per_tick", double(cloud_points_per_tick), 100.0, 1e6, "points")
       .range("terrain_rows_per_tick", double(terrain_rows_per_tick), 1.0, 10000.0, "rows");
   if (terrain) {
     c.nested(elevation.validate()).nested(analysis.validate()).nested(profile.validate());
@@ -80,23 +79,21 @@ void Mapping::run() {
     return;
   }
 
-  // Terrain: one cycle per 3D sweep. The windows move only between cycles, so the slices of a
-  // sweep and the strips of the analysis all land on one window.
-  if (sweep_ == nullptr && next_row_ == 0) {
+  // Terrain: one cycle per 3D sweep: the whole sweep is fused in one tick (0.3 ms for 57,600
+  // points), then the analysis and the traversability layer run a strip of rows per tick, then
+  // the master is rebuilt. The windows move only between cycles, so every strip of a cycle lands
+  // on one window; sweeps that arrive during a cycle are skipped (the newest starts the next).
+  if (next_row_ == 0) {
     if (f.cloud == nullptr || f.cloud->seq == last_cloud_seq_) return;
     last_cloud_seq_ = f.cloud->seq;
     costmap_.recenter(pose.x, pose.y);
     elevation_.recenter(pose.x, pose.y);
-    sweep_ = f.cloud;
-    next_point_ = 0;
-    sweep_pose_ = pose3_.sensor_pose(cfg_.lidar3d);
-    elevation_.begin_sweep(f.cloud->stamp_ns, sweep_pose_);
-  }
-  if (sweep_ != nullptr) {
-    fuse_slice();
+    elevation_.fuse(*f.cloud, pose3_.sensor_pose(cfg_.lidar3d));
+    ++tel_.sweeps;
+    next_row_ = -1;  // the analysis starts next tick
     return;
   }
-  // Analysis and traversability, a strip of rows per tick; then the master.
+  if (next_row_ < 0) next_row_ = 0;
   const int ny = elevation_.grid().ny();
   const int rows = std::min(cfg_.terrain_rows_per_tick, ny - next_row_);
   analysis_.compute(elevation_.grid(), 0, next_row_, elevation_.grid().nx(), rows);
@@ -110,28 +107,6 @@ void Mapping::run() {
     } else {
       ++tel_.skipped_master;
     }
-  }
-}
-
-// The newest sweep's points, cloud_points_per_tick at a time. The sensor keeps the sweep's buffer
-// until its next sweep (100 ms at 10 Hz); a sweep is done within a few ticks.
-void Mapping::fuse_slice() {
-  const SensorFrame& f = frame_.get();
-  if (f.cloud == nullptr || f.cloud != sweep_ || f.cloud->seq != last_cloud_seq_) {
-    // A newer sweep replaced the buffer mid-way: close this one with what it had.
-    elevation_.end_sweep();
-    sweep_ = nullptr;
-    ++tel_.sweeps;
-    return;
-  }
-  const std::uint32_t count = std::min<std::uint32_t>(sweep_->count, hal::kMaxCloudPoints);
-  const std::uint32_t n = std::min(cfg_.cloud_points_per_tick, count - next_point_);
-  elevation_.add_points(sweep_->points.data() + next_point_, n);
-  next_point_ += n;
-  if (next_point_ >= count) {
-    elevation_.end_sweep();
-    sweep_ = nullptr;
-    ++tel_.sweeps;
   }
 }
 

@@ -240,7 +240,7 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
       const std::uint8_t c = m.at(cx, cy);
       if (c == cost::kLethal || c == cost::kInscribed) {
         // The robot's own inflated cell does not count (it may be standing in inflation).
-        if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width) return true;
+        if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) return true;
       }
     }
     left -= len;
@@ -252,8 +252,8 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
 // A lethal cell just ahead of the body (within emergency_stop_m of its front edge).
 bool GotoMission::lethal_ahead(const Pose2& pose) const {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
-  const double front = footprint_.half_length + cfg_.emergency_stop_m;
-  for (double y = -footprint_.half_width; y <= footprint_.half_width; y += 0.5 * m.resolution()) {
+  const double front = footprint_.half_length_m + cfg_.emergency_stop_m;
+  for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m; y += 0.5 * m.resolution()) {
     const Vec2 p = to_world(pose, Vec2(front, y));
     int cx = 0, cy = 0;
     if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;

@@ -20,6 +20,7 @@
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/perception/ObstacleField.hpp"
 #include "firmware/planning/WavefrontPlanner.hpp"
 
 namespace carril::fw {

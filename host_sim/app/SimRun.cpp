@@ -54,6 +54,20 @@ void SimRun::publish_sensors(hal::TimeNs t) {
     topo_.scanner.publish(t);
     next_scan_ns_ += scan_period_ns_;
   }
+  if (topo_.lidar3d && t >= next_cloud_ns_) {
+    // The sensor's convention is REP 103's (pitch positive nose down); the IMU's is nose up.
+    const Attitude a = w.attitude();
+    BodyPose3 body;
+    body.x_m = w.pose().x;
+    body.y_m = w.pose().y;
+    body.z_m = a.z_m;
+    body.roll_rad = a.roll_rad;
+    body.pitch_rad = -a.pitch_rad;
+    body.yaw_rad = w.pose().yaw_rad;
+    topo_.lidar3d->render(w.height_field(), body, t, topo_.cloud.back_buffer());
+    topo_.cloud.publish();
+    next_cloud_ns_ += topo_.lidar3d->period_ns();
+  }
   double vx = 0, vy = 0, wz = 0;
   w.body_velocity(vx, vy, wz);
   hal::ImuSample imu;

@@ -51,7 +51,7 @@ class SimRun {
   RunMetrics metrics_;
   double period_s_;
   hal::TimeNs period_ns_, cam_period_ns_, scan_period_ns_;
-  hal::TimeNs next_cam_ns_ = 0, next_scan_ns_ = 0;
+  hal::TimeNs next_cam_ns_ = 0, next_scan_ns_ = 0, next_cloud_ns_ = 0;
   std::uint64_t tick_ = 0;
   std::uint64_t alloc_base_ = 0;
   double fault_at_s_ = -1.0;

@@ -16,10 +16,20 @@ constexpr std::int64_t us(double v) {
 
 fw::FirmwareConfig firmware_config(const Scenario& s) {
   // The same builder as the robot target's; a rejection reads as SimTopology's own would.
-  const loader::BuildResult b = loader::build_firmware_config(s.robot, s.mission);
+  loader::BuildResult b = loader::build_firmware_config(s.robot, s.mission);
   if (!b.ok) {
     throw std::invalid_argument(s.source_path + ": firmware configuration: " +
                                 (b.firmware_error.empty() ? b.error : b.firmware_error));
+  }
+  // A scenario's goal is in the world frame; the firmware's odometry starts at the start pose.
+  if (b.config.mission == fw::MissionKind::Goto) {
+    const double c = std::cos(s.robot.start.yaw_rad), sn = std::sin(s.robot.start.yaw_rad);
+    const double dx = s.mission.goal_x_m - s.robot.start.x;
+    const double dy = s.mission.goal_y_m - s.robot.start.y;
+    b.config.goto_mission.goal = {c * dx + sn * dy, -sn * dx + c * dy,
+                                  fw::wrap_angle(s.mission.goal_yaw_deg * 3.14159265358979323846 /
+                                                     180.0 -
+                                                 s.robot.start.yaw_rad)};
   }
   return b.config;
 }
@@ -36,7 +46,8 @@ fw::Status declare_tasks(fw::LineFirmware& f) {
                                                &f.perception),
       TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
                                                 &f.obstacle_sensing),
-      TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(80), &f.runner),
+      TaskSpec::bind<&fw::Mapping::run>("mapping", r.control_hz, 0, us(400), &f.mapping),
+      TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(300), &f.runner),
       TaskSpec::bind<&fw::MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
       TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
                                                            r.telemetry_offset, us(50), &f),
@@ -80,12 +91,20 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       camera_renderer(s, seed),
       lidar(s.robot.lidar, seed),
       drives(world.wheel_count()),
-      devices{clock, drives, camera, scanner, imu},
+      devices{clock, drives, camera, scanner, imu, &cloud},
       config(checked(firmware_config(s), tweak, s)),
       firmware(wired(config, clock, s)),
       app(devices, firmware->controller),
       reporter(firmware->status, console),
       slow_divisor(fw::TaskTable::divisor_for(config.rate_hz, kSlowRateHz)) {
+  if (config.mapping.terrain) {
+    Lidar3dConfig lc;
+    lc.sensor = s.robot.lidar3d;
+    if (const fw::Status st = lc.validate(); !st) {
+      throw std::invalid_argument(s.source_path + ": lidar3d: " + st.message());
+    }
+    lidar3d = std::make_unique<Lidar3dSim>(lc, seed);
+  }
   if (const fw::Status st = declare_slow_tasks(slow, reporter, slow_events); !st) {
     throw std::invalid_argument(s.source_path + ": slow rate group: " + st.message());
   }

@@ -16,6 +16,8 @@
 #include "hal/sim/SimDevices.hpp"
 #include "host_sim/scenario/Scenario.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
+#include "hal/sim/SimPointCloud.hpp"
+#include "host_sim/sensors/Lidar3dSim.hpp"
 #include "host_sim/sensors/LidarSim.hpp"
 #include "host_sim/world/SimWorld.hpp"
 
@@ -48,11 +50,13 @@ struct SimTopology {
   SimWorld world;
   CameraRenderer camera_renderer;
   LidarSim lidar;
+  std::unique_ptr<Lidar3dSim> lidar3d;  // only when the firmware maps terrain with it
   // The HAL backends the firmware sees (filled by the simulator in lockstep).
   hal::SimClock clock;
   hal::SimCamera camera;
   hal::SimRangeScanner scanner;
   hal::SimImu imu;
+  hal::SimPointCloud cloud;
   hal::SimWheelDrives drives;
   hal::Devices devices;
   // The firmware.

@@ -19,6 +19,7 @@
 
 #include "host_sim/app/FpTraps.hpp"
 #include "host_sim/app/HilMain.hpp"
+#include "host_sim/app/CostmapOutputs.hpp"
 #include "host_sim/app/LiveView.hpp"
 #include "host_sim/app/SimRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
