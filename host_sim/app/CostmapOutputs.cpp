@@ -30,8 +30,7 @@ const char* label_name(CellLabel l) {
 
 bool label_holds(CellLabel l, std::uint8_t c) {
   switch (l) {
-    case CellLabel::Free:
-      return c == fw::cost::kFree;
+    case CellLabel::Free:  // the thesis's "free": traversable, whatever its graded cost
     case CellLabel::Passable:
       return fw::cost::passable(c);
     case CellLabel::Lethal:

@@ -89,7 +89,7 @@ enum class CellLabel { Free, Passable, Lethal, Unknown };
 enum class CellLayer { Master, Traversability, Obstacle };
 struct CellExpect {
   Vec2 at;                             // world frame [m]
-  CellLabel label = CellLabel::Free;   // free: cost 0; passable: 0..252; lethal: 254; unknown: 255
+  CellLabel label = CellLabel::Free;   // free (= passable): cost 0..252; lethal: 254; unknown: 255
   CellLayer layer = CellLayer::Traversability;
   std::string what;                    // what the cell is, for the message (e.g. "cube face")
 };
