@@ -23,6 +23,20 @@ Status MappingConfig::validate() const {
   return c.result();
 }
 
+// The pose at the tick nearest t_ns (the newest when t_ns is newer, the oldest kept when older).
+Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
+  Pose3 best = pose3_.pose();
+  hal::TimeNs best_dt = -1;
+  for (std::size_t i = 0; i < history_.size(); ++i) {
+    const hal::TimeNs dt = history_[i].t_ns > t_ns ? history_[i].t_ns - t_ns : t_ns - history_[i].t_ns;
+    if (best_dt < 0 || dt < best_dt) {
+      best_dt = dt;
+      best = history_[i].pose;
+    }
+  }
+  return best;
+}
+
 Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
                  const Topic<OdometryMsg>& odom)
     : cfg_(cfg), frame_(frame), odom_(odom) {
@@ -58,6 +72,7 @@ void Mapping::run() {
     pose3_.update(pose, 0.0F, 0.0F);
   }
   tel_.z_m = pose3_.pose().z;
+  history_.push({f.now_ns, pose3_.pose()});
   ++tick_;
 
   if (!cfg_.terrain) {
@@ -88,7 +103,8 @@ void Mapping::run() {
     last_cloud_seq_ = f.cloud->seq;
     costmap_.recenter(pose.x, pose.y);
     elevation_.recenter(pose.x, pose.y);
-    elevation_.fuse(*f.cloud, pose3_.sensor_pose(cfg_.lidar3d));
+    const Pose3 p = pose_at(f.cloud->stamp_ns);
+    elevation_.fuse(*f.cloud, sensor_pose_of(p, cfg_.lidar3d));
     ++tel_.sweeps;
     next_row_ = -1;  // the analysis starts next tick
     return;

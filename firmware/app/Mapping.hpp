@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"
+#include "firmware/core/RingBuffer.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
@@ -56,6 +57,9 @@ class Mapping final : public CostmapView {
   void run();
 
   const RollingGrid<std::uint8_t>& master() const override { return costmap_.master(); }
+  const RollingGrid<std::uint8_t>& obstacles() const override {
+    return costmap_.obstacle_layer();
+  }
   std::uint32_t updates() const override { return tel_.master_updates; }
 
   bool enabled() const { return cfg_.enabled; }
@@ -79,6 +83,14 @@ class Mapping final : public CostmapView {
   bool started_ = false;
   std::uint32_t master_divisor_ = 1, tick_ = 0;
   std::uint32_t last_scan_seq_ = 0, last_cloud_seq_ = 0;
+  // The robot's 3D pose over the last ticks: a sweep is fused with the pose of its stamp (a
+  // driver delivers it after the sweep; fusing it with the current pose smears the map).
+  struct StampedPose {
+    hal::TimeNs t_ns = 0;
+    Pose3 pose;
+  };
+  RingBuffer<StampedPose, 64> history_;
+  Pose3 pose_at(hal::TimeNs t_ns) const;
   int next_row_ = 0;  // the analysis' next strip; 0 = waiting for a sweep, -1 = sweep fused
   MappingTelemetry tel_;
 };

@@ -13,6 +13,8 @@ class CostmapView {
   virtual ~CostmapView() = default;
   // The combined, inflated costs (Nav2 values, firmware/mapping/CostValues.hpp).
   virtual const RollingGrid<std::uint8_t>& master() const = 0;
+  // The 2D lidar's obstacle layer alone (lethal = a return was seen there).
+  virtual const RollingGrid<std::uint8_t>& obstacles() const = 0;
   // Increments at every rebuild of master(); 0 = never built.
   virtual std::uint32_t updates() const = 0;
 };

@@ -50,6 +50,11 @@ void Pose3Tracker::update(const Pose2& odom, float roll_rad, float pitch_rad) {
 }
 
 Pose3 Pose3Tracker::sensor_pose(const SensorMount& m) const {
+  return sensor_pose_of(pose_, m);
+}
+
+Pose3 sensor_pose_of(const Pose3& body_pose, const SensorMount& m) {
+  const Pose3& pose_ = body_pose;
   const Mat3 body = rotation_of(pose_.roll, pose_.pitch, pose_.yaw);
   const Vec3 t = Vec3(pose_.x, pose_.y, pose_.z) + body * Vec3(m.x_m, m.y_m, m.z_m);
   const Mat3 r = body * rotation_of(m.roll_rad, m.pitch_rad, m.yaw_rad);

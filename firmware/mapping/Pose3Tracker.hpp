@@ -32,6 +32,9 @@ Mat3 rotation_of(double roll_rad, double pitch_rad, double yaw_rad);
 // Attitude (roll, pitch, yaw) [rad] of a rotation matrix, inverse of rotation_of.
 void attitude_of(const Mat3& r, double& roll_rad, double& pitch_rad, double& yaw_rad);
 
+// The pose of a sensor mounted on a robot at `body`.
+Pose3 sensor_pose_of(const Pose3& body, const SensorMount& mount);
+
 class Pose3Tracker {
  public:
   // Starts at the odometry pose `odom` with height z_m [m]; attitude zero.

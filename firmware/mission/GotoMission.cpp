@@ -13,6 +13,7 @@ Status GotoConfig::validate() const {
       .range("goal_tolerance_m", goal_tolerance_m, 0.005, 1.0, "m")
       .range("yaw_tolerance_rad", yaw_tolerance_rad, 0.001, 1.0, "rad")
       .range("approach_m", approach_m, 0.05, 5.0, "m")
+      .range("goal_clear_m", goal_clear_m, 0.0, 2.0, "m")
       .range("replan_lookahead_m", replan_lookahead_m, 0.1, 50.0, "m")
       .range("emergency_stop_m", emergency_stop_m, 0.0, 1.0, "m")
       .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
@@ -57,6 +58,7 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
       costmap_(costmap) {
   const RollingGrid<std::uint8_t>& m = costmap.master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
+  if (planner_ready_) plan_costs_ = std::make_unique<std::uint8_t[]>(std::size_t(m.nx()) * m.ny());
 }
 
 void GotoMission::go(State s, const char* phase) {
@@ -194,7 +196,22 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
     // A new plan on the current costmap.
     int gx = 0, gy = 0;
     if (!m.world_to_cell(cfg_.goal.x, cfg_.goal.y, gx, gy)) return fail(Fault::GoalInvalid);
-    const WavefrontStatus s = planner_.start(m, gx, gy);
+    if (costmap_.obstacles().at(gx, gy) == cost::kLethal) return fail(Fault::GoalInvalid);
+    m.copy_to(plan_costs_.get());
+    const int r = static_cast<int>(std::ceil(cfg_.goal_clear_m / m.resolution()));
+    const int lgx = gx - m.origin_cx(), lgy = gy - m.origin_cy();
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        const int x = lgx + dx, y = lgy + dy;
+        if (x < 0 || y < 0 || x >= m.nx() || y >= m.ny() || dx * dx + dy * dy > r * r) continue;
+        if (costmap_.obstacles().at(m.origin_cx() + x, m.origin_cy() + y) == cost::kLethal) {
+          continue;
+        }
+        std::uint8_t& c = plan_costs_[std::size_t(y) * std::size_t(m.nx()) + std::size_t(x)];
+        if (!cost::passable(c)) c = cost::kMaxGraded;
+      }
+    }
+    const WavefrontStatus s = planner_.start(plan_costs_.get(), m.nx(), m.ny(), lgx, lgy);
     if (s == WavefrontStatus::GoalOutside || s == WavefrontStatus::GoalBlocked ||
         s == WavefrontStatus::BadGrid) {
       return fail(Fault::GoalInvalid);
@@ -238,7 +255,8 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
       int cx = 0, cy = 0;
       if (!m.world_to_cell(p.x(), p.y(), cx, cy)) continue;
       const std::uint8_t c = m.at(cx, cy);
-      if (c == cost::kLethal || c == cost::kInscribed) {
+      const bool near_goal = (p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m;
+      if (!near_goal && (c == cost::kLethal || c == cost::kInscribed)) {
         // The robot's own inflated cell does not count (it may be standing in inflation).
         if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) return true;
       }
@@ -255,6 +273,7 @@ bool GotoMission::lethal_ahead(const Pose2& pose) const {
   const double front = footprint_.half_length_m + cfg_.emergency_stop_m;
   for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m; y += 0.5 * m.resolution()) {
     const Vec2 p = to_world(pose, Vec2(front, y));
+    if ((p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m) continue;
     int cx = 0, cy = 0;
     if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;
   }

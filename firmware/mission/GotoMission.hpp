@@ -11,6 +11,7 @@
 //   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
 //   PLAN --no path / goal invalid--> FAILED (fault)
 #include <cstdint>
+#include <memory>
 
 #include "firmware/control/PathTracker.hpp"
 #include "firmware/control/PurePursuitFollower.hpp"
@@ -41,6 +42,10 @@ struct GotoConfig {
   std::uint32_t plan_expansions_per_tick = 4000;  // the planner's budget per tick (~0.3 ms) [cells]
   double replan_lookahead_m = 3.0;  // obstacles on the path this far ahead cause a replan [m]
   double emergency_stop_m = 0.05;   // a lethal cell this close ahead of the body stops [m]
+  // The terrain round the goal may still read lethal from afar (a crest hides what lies beyond
+  // it): the planner takes the cells this close to the goal as passable, unless the 2D lidar has
+  // seen something on the goal itself (then the goal is invalid) [m].
+  double goal_clear_m = 0.3;
 
   Status validate() const;
 };
@@ -87,6 +92,7 @@ class GotoMission final : public Mission {
   const CostmapView& costmap_;
   WavefrontPlanner planner_;
   bool planner_ready_ = false;
+  std::unique_ptr<std::uint8_t[]> plan_costs_;  // the master as planned on (goal area opened)
 
   State state_ = State::Wait;
   const char* phase_ = "wait";

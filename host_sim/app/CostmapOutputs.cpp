@@ -97,7 +97,15 @@ void check_cells(const Scenario& s, const fw::LineFirmware& f, RunSummary& r) {
     const fw::Pose2 o = world_to_odom(s.robot.start, c.at.x, c.at.y, 0.0);
     int cx = 0, cy = 0;
     const bool inside = g->world_to_cell(o.x, o.y, cx, cy);
-    const std::uint8_t cost = inside ? g->at(cx, cy) : fw::cost::kUnknown;
+    std::uint8_t cost = inside ? g->at(cx, cy) : fw::cost::kUnknown;
+    // An edge (a step, a face) is one cell wide and which cell holds it depends on where the
+    // edge falls in the grid: lethal is met by the cell or one of its 8 neighbours.
+    if (inside && c.label == CellLabel::Lethal && cost != fw::cost::kLethal) {
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (g->contains(cx + dx, cy + dy) && g->at(cx + dx, cy + dy) == fw::cost::kLethal)
+            cost = fw::cost::kLethal;
+    }
     ++r.cells_checked;
     if (!label_holds(c.label, cost)) {
       std::snprintf(buf, sizeof buf, "cells: (%.2f, %.2f) %s: expected %s, got cost %u%s", c.at.x,
