@@ -25,7 +25,9 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
              cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
-      cfg_(cfg) {}
+      cfg_(cfg) {
+  if (cfg.mapping.enabled) mission.set_costmap(&mapping);
+}
 
 TaskRates task_rates(const FirmwareConfig& c) {
   TaskRates r;

@@ -17,7 +17,8 @@ TapeFrame frame_of(const Vec2& o, double h) {
 }  // namespace
 
 BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
-                               double tape_heading) const {
+                               double tape_heading,
+                               const RollingGrid<std::uint8_t>* costmap) const {
   BypassPlan p;
   p.origin = tape_point;
   p.heading = tape_heading;
@@ -80,7 +81,44 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   p.lateral = p.side > 0 ? reach_left : -reach_right;
   set_waypoints(p, x_robot);
   p.ok = true;
+  if (costmap != nullptr) {
+    const Vec2 robot(odom.x, odom.y);
+    if (lane_clear(p, robot, 0, *costmap)) return p;
+    // The other side, where the outline allows it.
+    const bool other_ok = p.side > 0 ? right_ok : left_ok;
+    if (other_ok) {
+      BypassPlan q = p;
+      q.side = -p.side;
+      q.lateral = q.side > 0 ? reach_left : -reach_right;
+      set_waypoints(q, x_robot);
+      if (lane_clear(q, robot, 0, *costmap)) return q;
+    }
+    p.ok = false;
+    p.blocked = true;
+  }
   return p;
+}
+
+bool BypassPlanner::lane_clear(const BypassPlan& p, const Vec2& from, std::size_t first,
+                               const RollingGrid<std::uint8_t>& costmap) const {
+  const double step = 0.5 * costmap.resolution();
+  Vec2 a = from;
+  for (std::size_t i = first; i < p.waypoints.size(); ++i) {
+    const Vec2 b = p.waypoints[i];
+    const double len = (b - a).norm();
+    const int n = static_cast<int>(std::ceil(len / step));
+    for (int k = 1; k <= n; ++k) {
+      const Vec2 q = a + (b - a) * (double(k) / n);
+      // Where the robot stands now is not judged (it may stand in an inflation ring).
+      if ((q - from).norm() < fp_.half_width_m) continue;
+      int cx = 0, cy = 0;
+      if (!costmap.world_to_cell(q.x(), q.y(), cx, cy)) continue;
+      const std::uint8_t c = costmap.at(cx, cy);
+      if (c == 253 || c == 254) return false;  // inscribed or lethal (CostValues.hpp)
+    }
+    a = b;
+  }
+  return true;
 }
 
 void BypassPlanner::set_waypoints(BypassPlan& p, double x_robot) const {

@@ -3,7 +3,10 @@
 // frame (x along the tape, y to its left), the obstacle's outline from the lidar decides the
 // freer side; waypoints keep `clearance_m` between body and obstacle while passing and lead back
 // onto the tape beyond it. The plan grows as the lidar sees more of the obstacle's far side.
+#include <cstdint>
+
 #include "firmware/core/Geometry.hpp"
+#include "firmware/mapping/RollingGrid.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/perception/ObstacleField.hpp"
@@ -39,8 +42,15 @@ class BypassPlanner {
 
   // Plans round the obstacle nearest ahead of a robot at `odom` on a tape through `tape_point`
   // with direction `tape_heading` (both odometry frame).
+  // With a costmap, the lane the outline chose is checked on it with the footprint's clearance
+  // (the robot's centre never on an inscribed or lethal cell); when that lane is blocked the
+  // other side is tried, and the plan is blocked when neither is clear.
   BypassPlan plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
-                  double tape_heading) const;
+                  double tape_heading, const RollingGrid<std::uint8_t>* costmap = nullptr) const;
+  // Whether the path from `from` through p's waypoints [first, n) keeps the robot's centre off
+  // inscribed and lethal cells of `costmap` (cells outside the window count as clear).
+  bool lane_clear(const BypassPlan& p, const Vec2& from, std::size_t first,
+                  const RollingGrid<std::uint8_t>& costmap) const;
   // Extends `p` if a newer scan shows the obstacle reaching further along the tape.
   void refine(const ObstacleField& f, BypassPlan& p) const;
 

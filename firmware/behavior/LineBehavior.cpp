@@ -270,7 +270,7 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
       return out;
     }
     // Plan on the newest scan (taken after the robot stopped turning, or close enough).
-    plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_);
+    plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_, in.costmap);
     if (plan_.blocked) {
       out.fault = Fault::PathBlocked;
       enter(LineState::Fault, Phase::Stopped, in.t_s);
@@ -287,6 +287,13 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
   }
   if (p == Phase::Bypass) {
     if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_);
+    // The costmap closes the lane ahead (the far side, now seen, meets a wall): stop here.
+    if (in.costmap != nullptr && in.costmap_updated &&
+        !planner_.lane_clear(plan_, Vec2(in.odom.x, in.odom.y), waypoint_, *in.costmap)) {
+      out.fault = Fault::PathBlocked;
+      enter(LineState::Fault, Phase::Stopped, in.t_s);
+      return out;
+    }
     // Something right against the body: stop, and give up if it stays.
     if (in.obstacles->clearance_m(in.odom) < cfg_.avoid.emergency_m) {
       if (blocked_since_s_ < 0) blocked_since_s_ = in.t_s;

@@ -92,6 +92,8 @@ struct BehaviorInput {
   Twist measured;  // from the wheel encoders
   const ObstacleField* obstacles = nullptr;
   const TapeMap* tape = nullptr;  // the remembered tape, in path order (nullptr: none kept)
+  const RollingGrid<std::uint8_t>* costmap = nullptr;  // master costmap (nullptr: none built)
+  bool costmap_updated = false;  // the costmap was rebuilt since the last tick
 };
 
 struct BehaviorOutput {

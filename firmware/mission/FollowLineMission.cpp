@@ -69,6 +69,11 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   in.measured = odom.twist;
   in.obstacles = obstacles_.peek().valid() ? &obstacles_.peek() : nullptr;
   in.tape = &map_;
+  if (costmap_ != nullptr && costmap_->updates() > 0) {
+    in.costmap = &costmap_->master();
+    in.costmap_updated = costmap_->updates() != costmap_seen_;
+    costmap_seen_ = costmap_->updates();
+  }
   // The runner answers the obstacle question; FOLLOW is the state that acts on it.
   in.obstacle_ahead = behavior_.state() == LineState::Follow && ctx.obstacle_ahead();
   return in;

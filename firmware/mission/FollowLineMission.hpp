@@ -10,6 +10,7 @@
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleField.hpp"
@@ -42,6 +43,8 @@ class FollowLineMission final : public Mission {
 
   const LineBehavior& behavior() const { return behavior_; }
   const TapeMap& tape() const { return map_; }
+  // The costmap the bypass is checked on (nullptr: the obstacle outline alone decides).
+  void set_costmap(const CostmapView* c) { costmap_ = c; }
 
  private:
   // Tape and end mark of a new frame into memory.
@@ -58,6 +61,8 @@ class FollowLineMission final : public Mission {
   Reader<LineObservation> obs_;
   Reader<ObstacleField> obstacles_;
   bool end_known_ = false;
+  const CostmapView* costmap_ = nullptr;
+  std::uint32_t costmap_seen_ = 0;
   Vec2 end_odom_ = Vec2::Zero();
 };
 

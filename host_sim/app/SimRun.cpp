@@ -246,6 +246,9 @@ RunSummary SimRun::summary(double wall_time_s) {
            *r.end_stop_error_m);
     }
   }
+  for (const fw::TaskCounters& t : tel.tasks) {
+    r.tasks.push_back({t.name, long(t.runs), long(t.overruns), t.p50_us, t.p99_us, t.max_us});
+  }
   score_goto(scenario_, firmware, topo_.world.pose(), r);
   check_cells(scenario_, firmware, r);
   if (x.goal_reached && (!r.goal_reached || *r.goal_reached != *x.goal_reached)) {

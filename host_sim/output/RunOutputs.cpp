@@ -126,6 +126,19 @@ std::string summary_to_json(const RunSummary& s) {
   w.num("goal_yaw_error_deg", s.goal_yaw_error_deg);
   w.integer("replans", s.replans);
   w.integer("cells_checked", s.cells_checked);
+  {
+    json::ObjectWriter tasks;
+    for (const RunSummary::TaskTime& t : s.tasks) {
+      json::ObjectWriter one;
+      one.integer("runs", t.runs);
+      one.integer("overruns", t.overruns);
+      one.num("p50_us", t.p50_us);
+      one.num("p99_us", t.p99_us);
+      one.num("max_us", t.max_us);
+      tasks.raw(t.name, one.finish_inline());
+    }
+    w.raw("tasks", tasks.finish_inline());
+  }
   w.integer("falls", s.falls);
   return w.finish();
 }

@@ -64,6 +64,13 @@ struct RunSummary {
   int cells_checked = 0;  // expect.cells entries checked against the costmap
   // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
   int falls = 0;
+  // Each firmware task's compute time on this host (shared, noisy: figures, not goals).
+  struct TaskTime {
+    std::string name;
+    long runs = 0, overruns = 0;
+    double p50_us = 0.0, p99_us = 0.0, max_us = 0.0;
+  };
+  std::vector<TaskTime> tasks;
 };
 
 // Writes `content` to `path` atomically (temporary file in the same directory, fsync, rename).
