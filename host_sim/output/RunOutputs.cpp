@@ -117,6 +117,7 @@ std::string summary_to_json(const RunSummary& s) {
     w.raw("mission_counters", counters.finish_inline());
   }
   w.integer("task_overrun_events", s.task_overrun_events);
+  w.integer("falls", s.falls);
   if (s.goal_reached) {
     w.boolean("goal_reached", *s.goal_reached);
   } else {
@@ -139,7 +140,6 @@ std::string summary_to_json(const RunSummary& s) {
     }
     w.raw("tasks", tasks.finish_inline());
   }
-  w.integer("falls", s.falls);
   return w.finish();
 }
 

@@ -53,7 +53,8 @@ for f in trajectory.csv summary.json trajectory.png velocities.png; do
 done
 check "csv header" test "$(head -1 "$work/circle/trajectory.csv")" = "t,x,y,yaw,vx,vy,wz,state,cross_track_m"
 check "summary says passed" grep -q '"passed": true' "$work/circle/summary.json"
-check "no temporary files left" test -z "$(ls "$work/circle" | grep -v -E '^(trajectory.csv|summary.json|trajectory.png|velocities.png)$')"
+# A robot with a lidar builds a costmap: its images and the map_server pair join the set.
+check "no temporary files left" test -z "$(ls "$work/circle" | grep -v -E '^(trajectory.csv|summary.json|trajectory.png|velocities.png|costmap.png|costmap.pgm|costmap.yaml|obstacles.png)$')"
 
 # 6. --seed overrides the scenario's seed and is reproducible. The circle with camera and lidar
 # noise (the plain circle has none, so there every seed gives the same file) and a short run:
@@ -145,7 +146,7 @@ check "--out foreign files: the file is untouched" test "$(cat "$work/mine/notes
 check "rerun into a previous run's directory exits 1 (short run)" test $? -eq 1
 check "rerun replaced the summary" grep -q '"result": "time_limit"' "$work/circle/summary.json"
 check "rerun replaced the trajectory" test "$(wc -l <"$work/circle/trajectory.csv")" -lt 1000
-check "rerun left exactly the four files" test "$(ls -A "$work/circle" | sort | tr '\n' ' ')" = "summary.json trajectory.csv trajectory.png velocities.png "
+check "rerun left exactly the run's files" test "$(ls -A "$work/circle" | sort | tr '\n' ' ')" = "costmap.pgm costmap.png costmap.yaml obstacles.png summary.json trajectory.csv trajectory.png velocities.png "
 check "rerun left no staging directory" test -z "$(ls -A "$work" | grep '^\.')"
 
 # 11. A signal during start-up (held there by the CARRIL_SIM_STARTUP_DELAY_MS test hook) stops

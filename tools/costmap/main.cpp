@@ -2,8 +2,11 @@
 //   carril_costmap info FILE                  header fields, observed cells, height range
 //   carril_costmap heights FILE OUT.png [S]   observed heights as an 8-bit grey PNG (top row =
 //                                             highest y; black = never observed; S px per cell)
-// Deriving a costmap for a robot profile is the integrator's `derive` command (it needs the
-// firmware's traversability code). Exit status: 0 ok, 1 bad file or I/O error, 2 usage.
+//   carril_costmap derive FILE ROBOT.yaml OUT  the costmap of the robot described by ROBOT.yaml
+//                                             (its traversability: section and body width) on
+//                                             this map, as the firmware derives it: OUT.pgm +
+//                                             OUT.yaml (map_server) and OUT.png
+// Exit status: 0 ok, 1 bad file or I/O error, 2 usage.
 #include <png.h>
 
 #include <cmath>
@@ -13,7 +16,16 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
+#include "firmware/mapping/CostValues.hpp"
+#include "firmware/mapping/InflationLayer.hpp"
+#include "firmware/mapping/RollingGrid.hpp"
+#include "firmware/mapping/TerrainAnalysis.hpp"
+#include "firmware/mapping/TraversabilityLayer.hpp"
 #include "loader/AtomicWrite.hpp"
+#include "loader/CostmapExport.hpp"
+#include "loader/CostmapPng.hpp"
 #include "loader/ElevationMapFile.hpp"
 
 namespace {
@@ -104,10 +116,117 @@ int heights(const ElevationMapData& m, const std::string& out, int scale) {
   return 0;
 }
 
+// The robot's traversability limits and body width, from its robot file. Only those keys are
+// read; each must be a plain number in range (the robot loader checks the whole file).
+bool read_profile(const std::string& path, carril::fw::TraversabilityProfile& p, double& width_m,
+                  std::string& error) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    error = path + ": " + e.what();
+    return false;
+  }
+  auto number = [&](const YAML::Node& n, const std::string& key, double lo, double hi,
+                    double& out) {
+    if (!n || !n.IsScalar()) {
+      error = path + ": " + key + ": missing (expected a number in [" + std::to_string(lo) +
+              ", " + std::to_string(hi) + "])";
+      return false;
+    }
+    try {
+      out = n.as<double>();
+    } catch (const YAML::Exception&) {
+      error = path + ": " + key + ": expected a number, got " + n.Scalar();
+      return false;
+    }
+    if (!(out >= lo && out <= hi)) {
+      error = path + ": " + key + ": expected a number in [" + std::to_string(lo) + ", " +
+              std::to_string(hi) + "], got " + n.Scalar();
+      return false;
+    }
+    return true;
+  };
+  const YAML::Node t = root["traversability"];
+  if (!t || !t.IsMap()) {
+    error = path + ": traversability: missing section (a robot file, config/robots/*.yaml)";
+    return false;
+  }
+  return number(t["max_slope_deg"], "traversability.max_slope_deg", 0.0, 60.0, p.max_slope_deg) &&
+         number(t["max_step_up_m"], "traversability.max_step_up_m", 0.0, 1.0, p.max_step_up_m) &&
+         number(t["max_step_down_m"], "traversability.max_step_down_m", 0.0, 1.0,
+                p.max_step_down_m) &&
+         number(root["body"] ? root["body"]["width_m"] : YAML::Node(), "body.width_m", 0.05, 10.0,
+                width_m);
+}
+
+int derive(const ElevationMapData& m, const std::string& robot, const std::string& out) {
+  using namespace carril::fw;
+  TraversabilityProfile profile;
+  double width_m = 0.5;
+  std::string error;
+  if (!read_profile(robot, profile, width_m, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  if (const Status st = profile.validate(); !st) {
+    std::fprintf(stderr, "%s: %s\n", robot.c_str(), st.message());
+    return 1;
+  }
+  const int nx = static_cast<int>(m.nx), ny = static_cast<int>(m.ny);
+  const double res = m.resolution_m;
+  RollingGrid<ElevationCell> elevation;
+  if (!elevation.init(nx, ny, res, ElevationCell{})) return 1;
+  elevation.move_origin(static_cast<int>(std::lround(m.origin_x_m / res)),
+                        static_cast<int>(std::lround(m.origin_y_m / res)));
+  for (int ly = 0; ly < ny; ++ly)
+    for (int lx = 0; lx < nx; ++lx) elevation.local(lx, ly) = m.cells[std::size_t(ly) * nx + lx];
+  TerrainAnalysis analysis;
+  TraversabilityLayer traversability;
+  InflationLayer inflation;
+  InflationConfig ic;
+  ic.inscribed_radius_m = 0.5 * width_m;
+  ic.inflation_radius_m = std::fmax(0.55, 0.5 * width_m + 0.3);
+  RollingGrid<std::uint8_t> costmap;
+  if (!analysis.init(TerrainConfig{}, nx, ny, res) || !traversability.init(nx, ny, res) ||
+      !inflation.init(ic, nx, ny, res) || !costmap.init(nx, ny, res, cost::kUnknown)) {
+    std::fprintf(stderr, "carril_costmap: cannot size the grids for %d x %d cells\n", nx, ny);
+    return 1;
+  }
+  analysis.compute(elevation);
+  traversability.update(analysis, profile);
+  costmap.move_origin(elevation.origin_cx(), elevation.origin_cy());
+  inflation.apply(traversability.grid(), costmap);
+  std::vector<std::uint8_t> costs(std::size_t(nx) * std::size_t(ny));
+  costmap.copy_to(costs.data());
+  const carril::loader::CostmapGeometry g{m.nx, m.ny, res, m.origin_x_m, m.origin_y_m};
+  if (auto e = carril::loader::export_costmap_pgm(out, costs.data(), g)) {
+    std::fprintf(stderr, "%s\n", e->c_str());
+    return 1;
+  }
+  if (auto e = carril::loader::export_costmap_png(out + ".png", costs.data(), g, 2)) {
+    std::fprintf(stderr, "%s\n", e->c_str());
+    return 1;
+  }
+  std::size_t lethal = 0, unknown = 0, passable = 0;
+  for (const std::uint8_t c : costs) {
+    if (c == cost::kLethal) ++lethal;
+    else if (c == cost::kUnknown) ++unknown;
+    else if (cost::passable(c)) ++passable;
+  }
+  std::printf("%s: profile max slope %.3g deg, step up %.3g m, step down %.3g m, width %.3g m\n",
+              robot.c_str(), profile.max_slope_deg, profile.max_step_up_m,
+              profile.max_step_down_m, width_m);
+  std::printf("wrote %s.pgm, %s.yaml, %s.png: %zu passable, %zu lethal, %zu unknown cells\n",
+              out.c_str(), out.c_str(), out.c_str(), passable, lethal, unknown);
+  return 0;
+}
+
 int usage() {
   std::fprintf(stderr,
                "usage: carril_costmap info FILE\n"
-               "       carril_costmap heights FILE OUT.png [SCALE 1..%d]\n",
+               "       carril_costmap heights FILE OUT.png [SCALE 1..%d]\n"
+               "       carril_costmap derive FILE ROBOT.yaml OUT\n",
                kMaxScale);
   return 2;
 }
@@ -118,11 +237,12 @@ int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string cmd = argv[1];
   const std::string path = argv[2];
-  if (!((cmd == "info" && argc == 3) || (cmd == "heights" && (argc == 4 || argc == 5)))) {
+  if (!((cmd == "info" && argc == 3) || (cmd == "heights" && (argc == 4 || argc == 5)) ||
+        (cmd == "derive" && argc == 5))) {
     return usage();
   }
   int scale = 1;
-  if (argc == 5) {
+  if (argc == 5 && cmd == "heights") {
     char* end = nullptr;
     const long v = std::strtol(argv[4], &end, 10);
     if (end == argv[4] || *end != '\0' || v < 1 || v > kMaxScale) return usage();
@@ -133,5 +253,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", loaded.error.c_str());
     return 1;
   }
+  if (cmd == "derive") return derive(loaded.map, argv[3], argv[4]);
   return cmd == "info" ? info(path, loaded.map) : heights(loaded.map, argv[3], scale);
 }

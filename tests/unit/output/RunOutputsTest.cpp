@@ -102,7 +102,13 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "mission_status",
                                              "mission_counters",
                                              "task_overrun_events",
-                                             "falls"};
+                                             "falls",
+                                             "goal_reached",
+                                             "goal_error_m",
+                                             "goal_yaw_error_deg",
+                                             "replans",
+                                             "cells_checked",
+                                             "tasks"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
   EXPECT_NE(json.find("\"progress 0.5 < 0.9\""), std::string::npos);

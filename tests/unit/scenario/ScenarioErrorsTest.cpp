@@ -142,7 +142,7 @@ TEST(ScenarioErrors, UnknownStrategy) {
 }
 
 TEST(ScenarioErrors, UnsupportedMissionType) {
-  EXPECT_TRUE(fails_with(edit(kFullYaml, "type: follow_line", "type: goto"),
+  EXPECT_TRUE(fails_with(edit(kFullYaml, "type: follow_line", "type: coverage"),
                          {"mission.type", "not supported yet"}));
 }
 
