@@ -34,7 +34,7 @@ struct MappingConfig {
   TerrainConfig analysis;
   TraversabilityProfile profile;
   double start_free_radius_m = 1.5;  // the blind zone round the start pose, free at start [m]
-  int terrain_rows_per_tick = 6;  // analysed per tick [rows] (about 0.3 ms for 240 x 6 cells)
+  int terrain_rows_per_tick = 4;  // analysed per tick [rows] (a strip costs its rows plus a margin of neighbours)
 
   Status validate() const;
 };

@@ -264,6 +264,9 @@ RunSummary SimRun::summary(double wall_time_s) {
     miss("max_goal_yaw_error_deg: expected <= %.1f, got %.1f", *x.max_goal_yaw_error_deg,
          r.goal_yaw_error_deg.value_or(-1.0));
   }
+  if (x.min_replans && r.replans < *x.min_replans) {
+    miss("min_replans: expected >= %.0f, got %.0f", *x.min_replans, double(r.replans));
+  }
   if (x.fault && r.fault != *x.fault) {
     r.unmet_expectations.push_back("fault: expected " + *x.fault + ", got " +
                                    (r.fault.empty() ? std::string("none") : r.fault));

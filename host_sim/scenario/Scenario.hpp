@@ -106,11 +106,12 @@ struct ExpectSpec {
   std::optional<double> max_goal_error_m;        // [m]
   std::optional<double> max_goal_yaw_error_deg;  // [deg]
   std::optional<std::string> fault;              // the run must end in this fault (e.g. no_path)
+  std::optional<int> min_replans;                // goto: at least this many replans
   std::vector<CellExpect> cells;
   bool any() const {
     return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps ||
            max_end_stop_error_m || goal_reached || max_goal_error_m || max_goal_yaw_error_deg ||
-           fault || !cells.empty();
+           fault || min_replans || !cells.empty();
   }
 };
 

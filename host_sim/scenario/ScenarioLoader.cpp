@@ -324,7 +324,7 @@ CellExpect parse_cell_expect(const Node& m) {
 ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
-                "max_goal_yaw_error_deg", "fault", "cells"});
+                "max_goal_yaw_error_deg", "fault", "min_replans", "cells"});
   ExpectSpec e;
   if (auto n = m.get("goal_reached")) e.goal_reached = n->boolean();
   if (auto n = m.get("max_goal_error_m")) {
@@ -336,6 +336,7 @@ ExpectSpec parse_expect(const Node& m) {
   if (auto n = m.get("fault")) {
     e.fault = n->one_of({"no_path", "goal_invalid", "path_blocked", "line_not_found"});
   }
+  if (auto n = m.get("min_replans")) e.min_replans = static_cast<int>(n->integer(0, 1000000));
   e.cells = parse_list<CellExpect>(m.get("cells"), kMaxCellExpects, "cells", parse_cell_expect);
   if (auto n = m.get("end_reached")) e.end_reached = n->boolean();
   if (auto n = m.get("max_collisions")) e.max_collisions = static_cast<int>(n->integer(0, 1000000));
