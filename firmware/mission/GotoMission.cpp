@@ -190,13 +190,28 @@ bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
   return best < WavefrontPlanner::kInfinity;
 }
 
+// The robot standing on the goal would touch something the 2D lidar has seen: a lethal obstacle
+// cell within the footprint's circumscribed radius of the goal.
+bool GotoMission::goal_in_obstacle(int gx, int gy) const {
+  const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
+  const double radius = std::hypot(footprint_.half_length_m, footprint_.half_width_m);
+  const int r = static_cast<int>(std::ceil(radius / o.resolution()));
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if (std::hypot(dx, dy) * o.resolution() > radius) continue;
+      if (o.contains(gx + dx, gy + dy) && o.at(gx + dx, gy + dy) == cost::kLethal) return true;
+    }
+  }
+  return false;
+}
+
 MissionOutput GotoMission::plan_step(const Pose2& pose) {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
   if (planner_.status() != WavefrontStatus::Running) {
     // A new plan on the current costmap.
     int gx = 0, gy = 0;
     if (!m.world_to_cell(cfg_.goal.x, cfg_.goal.y, gx, gy)) return fail(Fault::GoalInvalid);
-    if (costmap_.obstacles().at(gx, gy) == cost::kLethal) return fail(Fault::GoalInvalid);
+    if (goal_in_obstacle(gx, gy)) return fail(Fault::GoalInvalid);
     m.copy_to(plan_costs_.get());
     const int r = static_cast<int>(std::ceil(cfg_.goal_clear_m / m.resolution()));
     const int lgx = gx - m.origin_cx(), lgy = gy - m.origin_cy();

@@ -81,6 +81,7 @@ class GotoMission final : public Mission {
   bool path_blocked_ahead(const Pose2& pose) const;
   bool lethal_ahead(const Pose2& pose) const;
   bool start_cell(const Pose2& pose, GridCell& out) const;
+  bool goal_in_obstacle(int gx, int gy) const;
   MissionOutput fail(Fault f);
 
   GotoConfig cfg_;
