@@ -99,7 +99,8 @@ void apply_mapping(const RobotSpec& r, bool goto_mission, fw::FirmwareConfig& c)
   m.elevation.size_x_m = m.costmap.size_x_m;
   m.elevation.size_y_m = m.costmap.size_y_m;
   m.elevation.resolution_m = m.costmap.resolution_m;
-  m.elevation.min_range_m = std::max(r.lidar3d.range_min_m, 0.5 * std::hypot(r.length_m, r.width_m));
+  m.elevation.min_range_m =
+      std::max(r.lidar3d.range_min_m, 0.5 * std::hypot(r.length_m, r.width_m));
   m.elevation.max_range_m = r.lidar3d.range_max_m;
   m.profile.max_slope_deg = r.traversability.max_slope_deg;
   m.profile.max_step_up_m = r.traversability.max_step_up_m;

@@ -52,9 +52,9 @@ void parse_goto(const Node& m, const RobotSpec& robot, const MissionSchema& sche
   if (auto n = m.get("speed_mps")) {
     mission.speed_mps = n->number(Range::closed(0.01, 5.0));
     if (mission.speed_mps > max_speed) {
-      n->expected("a number in (0, " + schema.speed_limit + " = " +
-                      strict::format_number(max_speed) + "]",
-                  n->raw());
+      n->expected(
+          "a number in (0, " + schema.speed_limit + " = " + strict::format_number(max_speed) + "]",
+          n->raw());
     }
   } else {
     mission.speed_mps = std::min(robot.cruise_speed_mps, max_speed);

@@ -28,7 +28,8 @@ Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
   Pose3 best = pose3_.pose();
   hal::TimeNs best_dt = -1;
   for (std::size_t i = 0; i < history_.size(); ++i) {
-    const hal::TimeNs dt = history_[i].t_ns > t_ns ? history_[i].t_ns - t_ns : t_ns - history_[i].t_ns;
+    const hal::TimeNs dt =
+        history_[i].t_ns > t_ns ? history_[i].t_ns - t_ns : t_ns - history_[i].t_ns;
     if (best_dt < 0 || dt < best_dt) {
       best_dt = dt;
       best = history_[i].pose;
@@ -83,7 +84,8 @@ void Mapping::run() {
   if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
     last_scan_seq_ = f.scan->seq;
     const Vec2 s = to_world(pose, Vec2(cfg_.lidar_x_m, cfg_.lidar_y_m));
-    costmap_.update_obstacles(*f.scan, Pose2{s.x(), s.y(), wrap_angle(pose.yaw + cfg_.lidar_yaw_rad)});
+    costmap_.update_obstacles(*f.scan,
+                              Pose2{s.x(), s.y(), wrap_angle(pose.yaw + cfg_.lidar_yaw_rad)});
     ++tel_.scans;
   }
   if (!cfg_.terrain) {

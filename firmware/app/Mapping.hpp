@@ -34,7 +34,8 @@ struct MappingConfig {
   TerrainConfig analysis;
   TraversabilityProfile profile;
   double start_free_radius_m = 1.5;  // the blind zone round the start pose, free at start [m]
-  int terrain_rows_per_tick = 4;  // analysed per tick [rows] (a strip costs its rows plus a margin of neighbours)
+  int terrain_rows_per_tick =
+      4;  // analysed per tick [rows] (a strip costs its rows plus a margin of neighbours)
 
   Status validate() const;
 };
@@ -57,9 +58,7 @@ class Mapping final : public CostmapView {
   void run();
 
   const RollingGrid<std::uint8_t>& master() const override { return costmap_.master(); }
-  const RollingGrid<std::uint8_t>& obstacles() const override {
-    return costmap_.obstacle_layer();
-  }
+  const RollingGrid<std::uint8_t>& obstacles() const override { return costmap_.obstacle_layer(); }
   std::uint32_t updates() const override { return tel_.master_updates; }
 
   bool enabled() const { return cfg_.enabled; }

@@ -6,9 +6,9 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
+#include "firmware/mapping/RollingGrid.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {

@@ -286,7 +286,8 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
 bool GotoMission::lethal_ahead(const Pose2& pose) const {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
   const double front = footprint_.half_length_m + cfg_.emergency_stop_m;
-  for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m; y += 0.5 * m.resolution()) {
+  for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m;
+       y += 0.5 * m.resolution()) {
     const Vec2 p = to_world(pose, Vec2(front, y));
     if ((p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m) continue;
     int cx = 0, cy = 0;

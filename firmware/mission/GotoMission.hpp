@@ -36,9 +36,9 @@ struct GotoConfig {
   PurePursuitConfig pure_pursuit;
   VffConfig vff;
   PathTrackerConfig tracker;
-  double goal_tolerance_m = 0.08;             // creep until this close (the goal is 0.1 m) [m]
-  double yaw_tolerance_rad = 0.07;            // turn until this close (the goal is 10 deg) [rad]
-  double approach_m = 0.35;                   // the last stretch, driven onto the goal [m]
+  double goal_tolerance_m = 0.08;   // creep until this close (the goal is 0.1 m) [m]
+  double yaw_tolerance_rad = 0.07;  // turn until this close (the goal is 10 deg) [rad]
+  double approach_m = 0.35;         // the last stretch, driven onto the goal [m]
   std::uint32_t plan_expansions_per_tick = 4000;  // the planner's budget per tick (~0.3 ms) [cells]
   double replan_lookahead_m = 3.0;  // obstacles on the path this far ahead cause a replan [m]
   double emergency_stop_m = 0.05;   // a lethal cell this close ahead of the body stops [m]

@@ -62,8 +62,7 @@ std::vector<std::uint8_t> window_of(const fw::RollingGrid<std::uint8_t>& g) {
 }
 
 loader::CostmapGeometry geometry_of(const fw::RollingGrid<std::uint8_t>& g) {
-  return {std::uint32_t(g.nx()), std::uint32_t(g.ny()), g.resolution(), g.origin_x(),
-          g.origin_y()};
+  return {std::uint32_t(g.nx()), std::uint32_t(g.ny()), g.resolution(), g.origin_x(), g.origin_y()};
 }
 }  // namespace
 
@@ -116,8 +115,7 @@ void check_cells(const Scenario& s, const fw::LineFirmware& f, RunSummary& r) {
   }
 }
 
-bool write_costmap_outputs(const fw::LineFirmware& f, const std::string& dir,
-                           std::string& error) {
+bool write_costmap_outputs(const fw::LineFirmware& f, const std::string& dir, std::string& error) {
   const fw::Mapping& m = f.mapping;
   if (!m.enabled()) return true;
   auto png = [&](const fw::RollingGrid<std::uint8_t>& g, const char* name) {

@@ -130,8 +130,8 @@ bool read_profile(const std::string& path, carril::fw::TraversabilityProfile& p,
   auto number = [&](const YAML::Node& n, const std::string& key, double lo, double hi,
                     double& out) {
     if (!n || !n.IsScalar()) {
-      error = path + ": " + key + ": missing (expected a number in [" + std::to_string(lo) +
-              ", " + std::to_string(hi) + "])";
+      error = path + ": " + key + ": missing (expected a number in [" + std::to_string(lo) + ", " +
+              std::to_string(hi) + "])";
       return false;
     }
     try {
@@ -210,13 +210,16 @@ int derive(const ElevationMapData& m, const std::string& robot, const std::strin
   }
   std::size_t lethal = 0, unknown = 0, passable = 0;
   for (const std::uint8_t c : costs) {
-    if (c == cost::kLethal) ++lethal;
-    else if (c == cost::kUnknown) ++unknown;
-    else if (cost::passable(c)) ++passable;
+    if (c == cost::kLethal)
+      ++lethal;
+    else if (c == cost::kUnknown)
+      ++unknown;
+    else if (cost::passable(c))
+      ++passable;
   }
   std::printf("%s: profile max slope %.3g deg, step up %.3g m, step down %.3g m, width %.3g m\n",
-              robot.c_str(), profile.max_slope_deg, profile.max_step_up_m,
-              profile.max_step_down_m, width_m);
+              robot.c_str(), profile.max_slope_deg, profile.max_step_up_m, profile.max_step_down_m,
+              width_m);
   std::printf("wrote %s.pgm, %s.yaml, %s.png: %zu passable, %zu lethal, %zu unknown cells\n",
               out.c_str(), out.c_str(), out.c_str(), passable, lethal, unknown);
   return 0;

@@ -1,0 +1,147 @@
+// GotoMission against a costmap written by the test (a CostmapView over two grids) and a robot
+// that moves exactly as commanded: it plans round a wall, drives onto the goal pose, replans when
+// a wall appears on its path, and stops with no_path or goal_invalid.
+#include "firmware/mission/GotoMission.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "firmware/mapping/CostValues.hpp"
+
+namespace carril::fw {
+namespace {
+
+class TestCostmap final : public CostmapView {
+ public:
+  TestCostmap() {
+    master_.init(120, 120, 0.05, cost::kFree);
+    obstacles_.init(120, 120, 0.05, cost::kUnknown);
+    master_.recenter(0.0, 0.0);
+    obstacles_.recenter(0.0, 0.0);
+  }
+  const RollingGrid<std::uint8_t>& master() const override { return master_; }
+  const RollingGrid<std::uint8_t>& obstacles() const override { return obstacles_; }
+  std::uint32_t updates() const override { return updates_; }
+  // A lethal rectangle [x0, x1] x [y0, y1] [m], inflated as the firmware does: inscribed (253)
+  // within 0.25 m, then 252 exp(-10 (d - 0.25)) out to 0.55 m.
+  void wall(double x0, double y0, double x1, double y1, bool seen_by_lidar = false) {
+    for (int cy = master_.origin_cy(); cy < master_.origin_cy() + master_.ny(); ++cy) {
+      for (int cx = master_.origin_cx(); cx < master_.origin_cx() + master_.nx(); ++cx) {
+        const double x = master_.center_of(cx), y = master_.center_of(cy);
+        const double dx = std::fmax(0.0, std::fmax(x0 - x, x - x1));
+        const double dy = std::fmax(0.0, std::fmax(y0 - y, y - y1));
+        const double d = std::hypot(dx, dy);
+        if (d == 0.0) {
+          master_.at(cx, cy) = cost::kLethal;
+          if (seen_by_lidar) obstacles_.at(cx, cy) = cost::kLethal;
+        } else if (d <= 0.25 && master_.at(cx, cy) != cost::kLethal) {
+          master_.at(cx, cy) = cost::kInscribed;
+        } else if (d <= 0.55 && cost::passable(master_.at(cx, cy))) {
+          const auto c = static_cast<std::uint8_t>(252.0 * std::exp(-10.0 * (d - 0.25)));
+          if (c > master_.at(cx, cy)) master_.at(cx, cy) = c;
+        }
+      }
+    }
+    ++updates_;
+  }
+  void touch() { ++updates_; }
+
+ private:
+  RollingGrid<std::uint8_t> master_, obstacles_;
+  std::uint32_t updates_ = 0;
+};
+
+struct Rig {
+  explicit Rig(Pose2 goal) {
+    cfg.goal = goal;
+    costmap.touch();
+  }
+  GotoConfig cfg;
+  Topic<OdometryMsg> odom;
+  TestCostmap costmap;
+  std::unique_ptr<GotoMission> mission;
+  MissionContext ctx;
+  Pose2 pose;
+  double min_wall_distance = 1e9;
+
+  void start() {
+    mission = std::make_unique<GotoMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap);
+    mission->enter(ctx);
+  }
+  // Runs until the mission is done or failed or `seconds` pass; the robot follows the twist.
+  MissionOutput run(double seconds, double wall_x0 = 1e9, double wall_y0 = 0, double wall_x1 = 0,
+                    double wall_y1 = 0) {
+    MissionOutput out;
+    for (int i = 0; i < int(seconds * 100); ++i) {
+      odom.publish(OdometryMsg{pose, {}}, i);
+      ctx.t_s = i * 0.01;
+      ctx.dt_s = 0.01;
+      ctx.drives_ready = true;
+      out = mission->update(ctx);
+      const MissionStatus s = mission->state().status;
+      if (s == MissionStatus::Done || s == MissionStatus::Failed) break;
+      const Twist& t = out.motion.twist;
+      pose.x += std::cos(pose.yaw) * t.vx * 0.01;
+      pose.y += std::sin(pose.yaw) * t.vx * 0.01;
+      pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
+      if (wall_x0 < 1e8) {
+        const double dx = std::fmax(0.0, std::fmax(wall_x0 - pose.x, pose.x - wall_x1));
+        const double dy = std::fmax(0.0, std::fmax(wall_y0 - pose.y, pose.y - wall_y1));
+        min_wall_distance = std::fmin(min_wall_distance, std::hypot(dx, dy));
+      }
+    }
+    return out;
+  }
+};
+
+TEST(GotoMissionTest, GoesRoundAWallOntoTheGoalPose) {
+  Rig r(Pose2{2.0, 0.0, kPi / 2});
+  r.costmap.wall(0.9, -0.6, 1.1, 0.6);
+  r.start();
+  r.run(60.0, 0.9, -0.6, 1.1, 0.6);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_LT(std::hypot(r.pose.x - 2.0, r.pose.y), 0.1);
+  EXPECT_LT(std::fabs(wrap_angle(r.pose.yaw - kPi / 2)), 10.0 * kPi / 180.0);
+  // The body (0.25 m half width) never reached the wall.
+  EXPECT_GT(r.min_wall_distance, 0.25);
+  EXPECT_EQ(r.mission->replans(), 0u);
+}
+
+TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
+  Rig r(Pose2{2.5, 0.0, 0.0});
+  r.start();
+  r.run(1.0);  // planned straight and driving
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Follow);
+  r.costmap.wall(1.4, -0.7, 1.6, 0.7);
+  r.run(60.0, 1.4, -0.7, 1.6, 0.7);
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_GE(r.mission->replans(), 1u);
+  EXPECT_GT(r.min_wall_distance, 0.25);
+}
+
+TEST(GotoMissionTest, EnclosedGoalEndsInNoPath) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.costmap.wall(1.4, -0.7, 1.5, 0.7);
+  r.costmap.wall(2.5, -0.7, 2.6, 0.7);
+  r.costmap.wall(1.4, 0.6, 2.6, 0.7);
+  r.costmap.wall(1.4, -0.7, 2.6, -0.6);
+  r.start();
+  const MissionOutput out = r.run(5.0);
+  EXPECT_EQ(out.fault, Fault::NoPath);
+  EXPECT_EQ(r.mission->state().status, MissionStatus::Failed);
+}
+
+TEST(GotoMissionTest, GoalOnAnObstacleOrOutsideTheCostmapIsInvalid) {
+  Rig inside(Pose2{1.5, 0.0, 0.0});
+  inside.costmap.wall(1.3, -0.3, 1.7, 0.3, true);
+  inside.start();
+  EXPECT_EQ(inside.run(2.0).fault, Fault::GoalInvalid);
+
+  Rig outside(Pose2{10.0, 0.0, 0.0});  // the window is 6 x 6 m round the origin
+  outside.start();
+  EXPECT_EQ(outside.run(2.0).fault, Fault::GoalInvalid);
+}
+
+}  // namespace
+}  // namespace carril::fw
