@@ -138,6 +138,12 @@ TEST(GotoMissionTest, GoalOnAnObstacleOrOutsideTheCostmapIsInvalid) {
   inside.start();
   EXPECT_EQ(inside.run(2.0).fault, Fault::GoalInvalid);
 
+  // Not on the goal cell, but where the body standing on the goal would touch it.
+  Rig beside(Pose2{1.5, 0.0, 0.0});
+  beside.costmap.wall(1.75, -0.3, 1.9, 0.3, true);
+  beside.start();
+  EXPECT_EQ(beside.run(2.0).fault, Fault::GoalInvalid);
+
   Rig outside(Pose2{10.0, 0.0, 0.0});  // the window is 6 x 6 m round the origin
   outside.start();
   EXPECT_EQ(outside.run(2.0).fault, Fault::GoalInvalid);
