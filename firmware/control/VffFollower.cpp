@@ -14,6 +14,7 @@ Status VffConfig::validate() const {
       .range("repulsion_gain", repulsion_gain, 0.0, 100.0, "")
       .range("repulsion_radius_m", repulsion_radius_m, 0.0, 5.0, "m")
       .range("repulsion_scale_m", repulsion_scale_m, 0.01, 5.0, "m")
+      .range("max_repulsion_ratio", max_repulsion_ratio, 0.0, 0.99, "")
       .range("cost_threshold", cost_threshold, 1.0, double(cost::kLethal), "cost")
       .range("cruise_speed_mps", cruise_speed_mps, 0.01, 5.0, "m/s")
       .range("min_speed_mps", min_speed_mps, 0.0, cruise_speed_mps, "m/s")
@@ -75,6 +76,8 @@ Twist VffFollower::update(const Pose2& pose, const Vec2* path, std::size_t n,
   const double dc = to_carrot.norm();
   attraction_ = dc > 1e-9 ? Vec2(cfg_.attraction_gain / dc * to_carrot) : Vec2(0.0, 0.0);
   repulsion_ = repulsion_at(p, costmap);
+  const double cap = cfg_.max_repulsion_ratio * attraction_.norm();
+  if (repulsion_.norm() > cap) repulsion_ *= cap / repulsion_.norm();
   const Vec2 f = attraction_ + repulsion_;
   if (f.squaredNorm() < 1e-12) return t;  // forces cancel: stop rather than guess
 

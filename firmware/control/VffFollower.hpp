@@ -19,6 +19,10 @@ struct VffConfig {
   double repulsion_gain = 0.5;      // per cell at distance 0 and cost 254 [-]
   double repulsion_radius_m = 0.8;  // cells farther than this do not push [m]
   double repulsion_scale_m = 0.25;  // exp(-d / scale) fall-off [m]
+  // The summed push is capped at this fraction of the pull: it deflects the robot round what the
+  // planner's path passes, never cancels the pull (a wall face of many cells would otherwise
+  // outweigh the carrot and hold the robot in a local minimum) [-].
+  double max_repulsion_ratio = 0.8;
   int cost_threshold = 253;         // cells with cost >= this push (1..254)
   bool unknown_repels = false;      // unknown (255) cells push too, as lethal
   double cruise_speed_mps = 0.4;    // [m/s]
