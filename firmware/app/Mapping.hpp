@@ -1,10 +1,10 @@
 #pragma once
-// Component: the robot-centred costmap. Every tick it moves the windows with the robot; a new 2D
-// scan goes into the obstacle layer; a new 3D lidar sweep is fused into the elevation map a
-// slice of points per tick; the terrain analysis and the robot profile's traversability layer
-// are recomputed a strip of rows per tick; and at master_rate_hz the layers are combined and
-// inflated into the master the missions read (CostmapView). The analysis is spread over ticks so
-// that no tick carries a whole window.
+// Component: the robot-centred costmap. A new 2D scan goes into the obstacle layer. Without
+// terrain the window follows the robot every tick and the master (layers combined and inflated,
+// what the missions read through CostmapView) is rebuilt at master_rate_hz. With terrain, one
+// cycle per 3D lidar sweep: the windows move, the sweep is fused into the elevation map with the
+// pose of its stamp, the terrain analysis and the profile's traversability layer run a strip of
+// rows per tick (no tick carries a whole window), then the master is rebuilt.
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"

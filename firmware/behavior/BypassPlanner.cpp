@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "firmware/mapping/CostValues.hpp"
+
 namespace carril::fw {
 
 namespace {
@@ -114,7 +116,7 @@ bool BypassPlanner::lane_clear(const BypassPlan& p, const Vec2& from, std::size_
       int cx = 0, cy = 0;
       if (!costmap.world_to_cell(q.x(), q.y(), cx, cy)) continue;
       const std::uint8_t c = costmap.at(cx, cy);
-      if (c == 253 || c == 254) return false;  // inscribed or lethal (CostValues.hpp)
+      if (c == cost::kInscribed || c == cost::kLethal) return false;
     }
     a = b;
   }

@@ -138,7 +138,7 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
     case State::Plan:
       return plan_step(pose);
     case State::Follow:
-      return follow(ctx, pose);
+      return follow(pose);
     case State::Approach: {
       bool arrived = false;
       MissionOutput out;
@@ -296,8 +296,7 @@ bool GotoMission::lethal_ahead(const Pose2& pose) const {
   return false;
 }
 
-MissionOutput GotoMission::follow(const MissionContext& ctx, const Pose2& pose) {
-  (void)ctx;
+MissionOutput GotoMission::follow(const Pose2& pose) {
   const Vec2 goal(cfg_.goal.x, cfg_.goal.y);
   if ((goal - Vec2(pose.x, pose.y)).norm() <= cfg_.approach_m) {
     go(State::Approach, "approach");

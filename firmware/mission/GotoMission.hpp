@@ -77,7 +77,7 @@ class GotoMission final : public Mission {
  private:
   void go(State s, const char* phase);
   MissionOutput plan_step(const Pose2& pose);
-  MissionOutput follow(const MissionContext& ctx, const Pose2& pose);
+  MissionOutput follow(const Pose2& pose);
   bool path_blocked_ahead(const Pose2& pose) const;
   bool lethal_ahead(const Pose2& pose) const;
   bool start_cell(const Pose2& pose, GridCell& out) const;

@@ -4,11 +4,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "host_sim/app/CostmapOutputs.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
 
 namespace {
+constexpr double kPi = 3.14159265358979323846;
 constexpr std::int64_t us(double v) {
   return static_cast<std::int64_t>(v * 1e3);
 }
@@ -23,13 +25,9 @@ fw::FirmwareConfig firmware_config(const Scenario& s) {
   }
   // A scenario's goal is in the world frame; the firmware's odometry starts at the start pose.
   if (b.config.mission == fw::MissionKind::Goto) {
-    const double c = std::cos(s.robot.start.yaw_rad), sn = std::sin(s.robot.start.yaw_rad);
-    const double dx = s.mission.goal_x_m - s.robot.start.x;
-    const double dy = s.mission.goal_y_m - s.robot.start.y;
-    b.config.goto_mission.goal = {c * dx + sn * dy, -sn * dx + c * dy,
-                                  fw::wrap_angle(s.mission.goal_yaw_deg * 3.14159265358979323846 /
-                                                     180.0 -
-                                                 s.robot.start.yaw_rad)};
+    b.config.goto_mission.goal =
+        world_to_odom(s.robot.start, s.mission.goal_x_m, s.mission.goal_y_m,
+                      s.mission.goal_yaw_deg * kPi / 180.0);
   }
   return b.config;
 }
