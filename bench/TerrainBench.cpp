@@ -163,7 +163,7 @@ void compare_once() {
   ta.compute(map().grid);
   Reference ref;
   ref.compute(map().grid, TerrainConfig{});
-  double worst = 0.0, worst_step = 0.0;
+  double worst = 0.0, worst_step = 0.0, worst_slope = 0.0;
   int compared = 0, carril_only = 0, ref_only = 0;
   for (std::size_t i = 0; i < 240 * 240; ++i) {
     const bool a = ta.status()[i] == TerrainStatus::kValid, b = ref.valid[i] != 0;
@@ -178,11 +178,16 @@ void compare_once() {
     const double dot = double(ta.normal_x()[i]) * ref.nx[i] + double(ta.normal_y()[i]) * ref.ny[i] +
                        double(ta.normal_z()[i]) * ref.nz[i];
     worst = std::max(worst, std::acos(std::min(1.0, std::fabs(dot))) * 180.0 / kPi);
+    const double ref_slope =
+        std::atan2(std::hypot(double(ref.nx[i]), double(ref.ny[i])), double(ref.nz[i]));
+    worst_slope =
+        std::max(worst_slope, std::fabs(double(ta.slope_rad()[i]) - ref_slope) * 180.0 / kPi);
   }
   std::printf(
-      "terrain: %d cells compared, max normal angle difference %.4f deg (goal <= 1), max step "
-      "difference %.6f m; valid only in carril %d (too collinear), only in the reference %d\n",
-      compared, worst, worst_step, carril_only, ref_only);
+      "terrain: %d cells compared, max normal angle difference %.4f deg (goal <= 1), max slope "
+      "difference %.4f deg, max step difference %.6f m; valid only in carril %d (too collinear), "
+      "only in the reference %d\n",
+      compared, worst, worst_slope, worst_step, carril_only, ref_only);
   std::printf("fuse: sweep of %u points\n", sweep().count);
 }
 

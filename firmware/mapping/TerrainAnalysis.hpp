@@ -7,7 +7,8 @@
 // neighbourhood's 3x3 covariance, as grid_map's normal filter computes it), made O(1) per cell:
 // integral images of the point moments (count, x, y, z, xx, xy, yy, xz, yz, zz) give every
 // square neighbourhood's covariance from four lookups, and the 3x3 eigenproblem is solved in
-// closed form (trigonometric roots, eigenvector from row cross products).
+// closed form (the smallest root of the characteristic polynomial by Newton steps from a
+// Gershgorin bound, no trigonometry; the eigenvector from row cross products).
 //
 // A step down seen from the upper level hides the ground just beyond the edge (occlusion), so
 // the step neighbourhood there holds no lower cell. For such frontier cells (an unobserved cell
@@ -78,8 +79,6 @@ class TerrainAnalysis {
   struct Moments {
     double n, x, y, z, xx, xy, yy, xz, yz, zz;
   };
-  void sliding_extrema(int ex0, int ey0, int ex1, int ey1, int k, float* row_buf_max,
-                       float* row_buf_min);
 
   TerrainConfig config_;
   int nx_ = 0, ny_ = 0;
@@ -88,7 +87,9 @@ class TerrainAnalysis {
   int origin_cx_ = 0, origin_cy_ = 0;
   int rx0_ = 0, ry0_ = 0, rw_ = 0, rh_ = 0;
   std::unique_ptr<Moments[]> integral_;  // (nx + 1) x (ny + 1)
-  std::unique_ptr<float[]> hmax_, hmin_, tmp_max_, tmp_min_, dmin_;
+  // hmax_ holds the negated maximum (the sliding minimum of -height).
+  std::unique_ptr<float[]> hmax_, hmin_, lo_, neg_hi_, row_min_, row_neg_max_, dmin_;
+  std::unique_ptr<float[]> scratch_g_, scratch_h_;
   std::unique_ptr<TerrainStatus[]> status_;
   std::unique_ptr<float[]> height_, slope_, normal_x_, normal_y_, normal_z_, step_up_, step_down_,
       drop_;
@@ -96,7 +97,8 @@ class TerrainAnalysis {
 };
 
 // Smallest-eigenvalue eigenvector of the symmetric 3x3 matrix [[a00 a01 a02] [. a11 a12]
-// [. . a22]], closed form; also the middle eigenvalue. Returns false when degenerate.
+// [. . a22]] (Newton on the characteristic polynomial); also the middle eigenvalue. Returns false
+// when degenerate (the two smallest eigenvalues equal: no preferred normal).
 bool smallest_eigenvector(double a00, double a01, double a02, double a11, double a12, double a22,
                           double n[3], double& middle_eigenvalue);
 

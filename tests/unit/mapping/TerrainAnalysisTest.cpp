@@ -26,20 +26,24 @@ struct Fixture {
 };
 
 TEST(TerrainAnalysisTest, TiltedPlaneGivesItsSlope) {
-  Fixture f;
-  const double a = synth::deg(5.0), dir = 0.5;  // 5 deg rising toward azimuth 0.5 rad
-  synth::fill(f.grid, [&](double x, double y) {
-    return std::tan(a) * (x * std::cos(dir) + y * std::sin(dir));
-  });
-  f.ta.compute(f.grid);
-  for (int ly = 5; ly < 75; ++ly)
-    for (int lx = 5; lx < 75; ++lx) {
-      const std::size_t i = f.ta.index(lx, ly);
-      ASSERT_EQ(f.ta.status()[i], TerrainStatus::kValid);
-      ASSERT_NEAR(f.ta.slope_rad()[i], a, synth::deg(0.5));
-      ASSERT_NEAR(std::atan2(-f.ta.normal_y()[i], -f.ta.normal_x()[i]), dir, 0.01);
-      ASSERT_LT(f.ta.step_up_m()[i], 0.02F);
-    }
+  // Shallow and steep (the slope's arctangent is reflected beyond 45 deg).
+  for (const double deg : {0.5, 5.0, 30.0, 44.0, 46.0, 60.0, 80.0}) {
+    SCOPED_TRACE(deg);
+    Fixture f;
+    const double a = synth::deg(deg), dir = 0.5;  // rising toward azimuth 0.5 rad
+    synth::fill(f.grid, [&](double x, double y) {
+      return std::tan(a) * (x * std::cos(dir) + y * std::sin(dir));
+    });
+    f.ta.compute(f.grid);
+    for (int ly = 5; ly < 75; ++ly)
+      for (int lx = 5; lx < 75; ++lx) {
+        const std::size_t i = f.ta.index(lx, ly);
+        ASSERT_EQ(f.ta.status()[i], TerrainStatus::kValid);
+        ASSERT_NEAR(f.ta.slope_rad()[i], a, synth::deg(0.05));
+        ASSERT_NEAR(std::atan2(-f.ta.normal_y()[i], -f.ta.normal_x()[i]), dir, 0.01);
+        if (deg < 10.0) ASSERT_LT(f.ta.step_up_m()[i], 0.02F);
+      }
+  }
 }
 
 TEST(TerrainAnalysisTest, StepUpOnTheLowSideStepDownOnTheHighSide) {
