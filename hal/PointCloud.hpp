@@ -27,7 +27,8 @@ struct PointCloud {
 class PointCloudSensor {
  public:
   virtual ~PointCloudSensor() = default;
-  // Newest complete sweep, or nullptr if none has arrived. Valid until the next call.
+  // Newest complete sweep, or nullptr if none has arrived. It stays valid and unchanged for as
+  // long as later calls return it (the same seq): a consumer may read it over several ticks.
   virtual const PointCloud* latest() = 0;
 };
 

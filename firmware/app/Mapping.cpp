@@ -11,7 +11,9 @@ Status MappingConfig::validate() const {
   c.nested(costmap.validate())
       .range("master_rate_hz", master_rate_hz, 0.1, 100.0, "Hz")
       .range("start_free_radius_m", start_free_radius_m, 0.0, 10.0, "m")
-      .range("terrain_rows_per_tick", double(terrain_rows_per_tick), 1.0, 10000.0, "rows");
+      .range("terrain_rows_per_tick", double(terrain_rows_per_tick), 1.0, 10000.0, "rows")
+      .range("fuse_points_per_tick", double(fuse_points_per_tick), 100.0, 1e7, "points")
+      .range("fuse_cells_per_tick", double(fuse_cells_per_tick), 100.0, 1e7, "cells");
   if (terrain) {
     c.nested(elevation.validate()).nested(analysis.validate()).nested(profile.validate());
     c.fail_if(std::fabs(elevation.size_x_m - costmap.size_x_m) > 1e-9 ||
@@ -81,12 +83,14 @@ void Mapping::run() {
     // enter), the master is rebuilt at master_rate_hz.
     costmap_.recenter(pose.x, pose.y);
   }
+  bool scanned = false;
   if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
     last_scan_seq_ = f.scan->seq;
     const Vec2 s = to_world(pose, Vec2(cfg_.lidar_x_m, cfg_.lidar_y_m));
     costmap_.update_obstacles(*f.scan,
                               Pose2{s.x(), s.y(), wrap_angle(pose.yaw + cfg_.lidar_yaw_rad)});
     ++tel_.scans;
+    scanned = true;
   }
   if (!cfg_.terrain) {
     if (tick_ % master_divisor_ == 0) {
@@ -95,36 +99,82 @@ void Mapping::run() {
     }
     return;
   }
-
-  // Terrain: one cycle per 3D sweep: the whole sweep is fused in one tick (0.3 ms for 57,600
-  // points), then the analysis and the traversability layer run a strip of rows per tick, then
-  // the master is rebuilt. The windows move only between cycles, so every strip of a cycle lands
-  // on one window; sweeps that arrive during a cycle are skipped (the newest starts the next).
-  if (next_row_ == 0) {
-    if (f.cloud == nullptr || f.cloud->seq == last_cloud_seq_) return;
-    last_cloud_seq_ = f.cloud->seq;
-    costmap_.recenter(pose.x, pose.y);
-    elevation_.recenter(pose.x, pose.y);
-    const Pose3 p = pose_at(f.cloud->stamp_ns);
-    elevation_.fuse(*f.cloud, sensor_pose_of(p, cfg_.lidar3d));
-    ++tel_.sweeps;
-    next_row_ = -1;  // the analysis starts next tick
+  // One bounded piece per tick: a scan, or else a master rebuild when one is due (obstacles reach
+  // the missions at master_rate_hz, the terrain as its cycle completes), or else a terrain piece.
+  // Not before the first terrain cycle is complete: a master without any terrain would let a
+  // mission plan over ground nobody has judged.
+  if (tel_.master_updates > 0 && tick_ % master_divisor_ == 0) master_due_ = true;
+  if (scanned) return;
+  if (master_due_) {
+    rebuild_master();
     return;
   }
-  if (next_row_ < 0) next_row_ = 0;
-  const int ny = elevation_.grid().ny();
-  const int rows = std::min(cfg_.terrain_rows_per_tick, ny - next_row_);
-  analysis_.compute(elevation_.grid(), 0, next_row_, elevation_.grid().nx(), rows);
-  traversability_.update(analysis_, cfg_.profile);
-  next_row_ += rows;
-  if (next_row_ >= ny) {
-    next_row_ = 0;
-    const RollingGrid<std::uint8_t>* layers[] = {&traversability_.grid()};
-    if (costmap_.update_master(layers, 1)) {
-      ++tel_.master_updates;
-    } else {
-      ++tel_.skipped_master;
+  terrain_piece(f);
+}
+
+void Mapping::rebuild_master() {
+  master_due_ = false;
+  const RollingGrid<std::uint8_t>* layers[] = {&traversability_.grid()};
+  if (costmap_.update_master(layers, 1)) {
+    ++tel_.master_updates;
+  } else {
+    ++tel_.skipped_master;
+  }
+}
+
+void Mapping::begin_sweep(const hal::PointCloud& cloud, const Pose2& pose) {
+  last_cloud_seq_ = binning_seq_ = cloud.seq;
+  // The windows move only between cycles, so every piece of a cycle lands on one window.
+  costmap_.recenter(pose.x, pose.y);
+  elevation_.recenter(pose.x, pose.y);
+  traversability_.move_window(elevation_.grid().origin_cx(), elevation_.grid().origin_cy());
+  const Pose3 p = pose_at(cloud.stamp_ns);
+  next_point_ = 0;
+  phase_ = elevation_.begin_sweep(std::int64_t(cloud.stamp_ns), sensor_pose_of(p, cfg_.lidar3d))
+               ? TerrainPhase::kBin
+               : TerrainPhase::kWaitSweep;
+}
+
+void Mapping::terrain_piece(const SensorFrame& f) {
+  const bool fresh = f.cloud != nullptr && f.cloud->seq != last_cloud_seq_;
+  switch (phase_) {
+    case TerrainPhase::kWaitSweep:
+      if (fresh) begin_sweep(*f.cloud, odom_.get().pose);
+      return;
+    case TerrainPhase::kBin: {
+      // The sweep being binned is replaced once a newer one is out (the driver may reuse its
+      // buffer): start over with the newest; nothing of the old one reached the map.
+      if (f.cloud == nullptr || f.cloud->seq != binning_seq_) {
+        ++tel_.sweeps_abandoned;
+        phase_ = TerrainPhase::kWaitSweep;
+        if (f.cloud != nullptr) begin_sweep(*f.cloud, odom_.get().pose);
+        return;
+      }
+      const std::uint32_t n = std::uint32_t(cfg_.fuse_points_per_tick);
+      elevation_.bin_points(*f.cloud, next_point_, n);
+      next_point_ += n;
+      if (next_point_ >= f.cloud->count) phase_ = TerrainPhase::kFuse;
+      return;
     }
+    case TerrainPhase::kFuse:
+      if (!elevation_.fuse_step(std::uint32_t(cfg_.fuse_cells_per_tick))) return;
+      ++tel_.sweeps;
+      next_row_ = 0;
+      phase_ = TerrainPhase::kAnalyse;
+      return;
+    case TerrainPhase::kAnalyse: {
+      const int ny = elevation_.grid().ny();
+      const int rows = std::min(cfg_.terrain_rows_per_tick, ny - next_row_);
+      analysis_.compute(elevation_.grid(), 0, next_row_, elevation_.grid().nx(), rows);
+      traversability_.update(analysis_, cfg_.profile);
+      next_row_ += rows;
+      if (next_row_ >= ny) phase_ = TerrainPhase::kMaster;
+      return;
+    }
+    case TerrainPhase::kMaster:
+      rebuild_master();
+      phase_ = TerrainPhase::kWaitSweep;
+      return;
   }
 }
 

@@ -2,9 +2,13 @@
 // Component: the robot-centred costmap. A new 2D scan goes into the obstacle layer. Without
 // terrain the window follows the robot every tick and the master (layers combined and inflated,
 // what the missions read through CostmapView) is rebuilt at master_rate_hz. With terrain, one
-// cycle per 3D lidar sweep: the windows move, the sweep is fused into the elevation map with the
-// pose of its stamp, the terrain analysis and the profile's traversability layer run a strip of
-// rows per tick (no tick carries a whole window), then the master is rebuilt.
+// cycle per 3D lidar sweep, a bounded piece of it per tick so that no tick carries a whole
+// sweep or a whole window: the windows move and the sweep begins with the pose of its stamp,
+// its points are binned a slice per tick, the binned cells are fused a slice per tick, the
+// terrain analysis and the profile's traversability layer run a strip of rows per tick, then the
+// master is rebuilt. Between, the master is rebuilt at master_rate_hz too (fresh obstacles, the
+// traversability as far as the analysis got, all on one window). A tick does one piece only: a
+// scan, a master rebuild or a terrain piece.
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"
@@ -34,18 +38,20 @@ struct MappingConfig {
   TerrainConfig analysis;
   TraversabilityProfile profile;
   double start_free_radius_m = 1.5;  // the blind zone round the start pose, free at start [m]
-  int terrain_rows_per_tick =
-      4;  // analysed per tick [rows] (a strip costs its rows plus a margin of neighbours)
+  int terrain_rows_per_tick = 4;     // analysed per tick [rows]
+  int fuse_points_per_tick = 4000;   // 3D points binned per tick [points]
+  int fuse_cells_per_tick = 2000;    // binned cells fused into the elevation map per tick [cells]
 
   Status validate() const;
 };
 
 struct MappingTelemetry {
-  std::uint32_t scans = 0;           // 2D scans integrated
-  std::uint32_t sweeps = 0;          // 3D sweeps fused
-  std::uint32_t master_updates = 0;  // master rebuilds
-  std::uint32_t skipped_master = 0;  // rebuilds skipped (a layer on another window)
-  double z_m = 0.0;                  // the robot's height from the IMU pitch [m]
+  std::uint32_t scans = 0;             // 2D scans integrated
+  std::uint32_t sweeps = 0;            // 3D sweeps fused
+  std::uint32_t sweeps_abandoned = 0;  // sweeps replaced by a newer one while being binned
+  std::uint32_t master_updates = 0;    // master rebuilds
+  std::uint32_t skipped_master = 0;    // rebuilds skipped (a layer on another window)
+  double z_m = 0.0;                    // the robot's height from the IMU pitch [m]
 };
 
 class Mapping final : public CostmapView {
@@ -90,7 +96,15 @@ class Mapping final : public CostmapView {
   };
   RingBuffer<StampedPose, 64> history_;
   Pose3 pose_at(hal::TimeNs t_ns) const;
-  int next_row_ = 0;  // the analysis' next strip; 0 = waiting for a sweep, -1 = sweep fused
+  // The terrain cycle: each tick does the piece of its phase.
+  enum class TerrainPhase : std::uint8_t { kWaitSweep, kBin, kFuse, kAnalyse, kMaster };
+  TerrainPhase phase_ = TerrainPhase::kWaitSweep;
+  std::uint32_t binning_seq_ = 0, next_point_ = 0;
+  int next_row_ = 0;  // the analysis' next strip
+  bool master_due_ = false;
+  void terrain_piece(const SensorFrame& f);
+  void rebuild_master();
+  void begin_sweep(const hal::PointCloud& cloud, const Pose2& pose);
   MappingTelemetry tel_;
 };
 

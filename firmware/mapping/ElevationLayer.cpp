@@ -1,5 +1,6 @@
 #include "firmware/mapping/ElevationLayer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace carril::fw {
@@ -47,24 +48,32 @@ void ElevationLayer::add_process_noise(double dt_s) {
   const float add = float(config_.process_noise_m2_per_s * dt_s);
   const float cap = float(config_.max_variance_m2);
   if (!(add > 0.0F)) return;
+  // Branch-free so that it vectorises: a sequential pass over the window every sweep.
   for (int ly = 0; ly < grid_.ny(); ++ly) {
     ElevationCell* row = grid_.storage_row(ly);
     for (int i = 0; i < grid_.nx(); ++i) {
-      float& v = row[i].variance_m2;
-      if (v > 0.0F) v = v + add < cap ? v + add : cap;
+      const float v = row[i].variance_m2;
+      const float grown = std::min(v + add, cap);
+      row[i].variance_m2 = v > 0.0F ? grown : v;
     }
   }
 }
 
 void ElevationLayer::fuse(const hal::PointCloud& cloud, const Pose3& sp) {
-  if (last_stamp_ns_ >= 0 && std::int64_t(cloud.stamp_ns) > last_stamp_ns_)
-    add_process_noise(double(std::int64_t(cloud.stamp_ns) - last_stamp_ns_) * 1e-9);
-  last_stamp_ns_ = std::int64_t(cloud.stamp_ns);
-  last_points_ = last_cells_ = 0;
-  if (!std::isfinite(sp.x) || !std::isfinite(sp.y) || !std::isfinite(sp.z) ||
-      !std::isfinite(sp.roll) || !std::isfinite(sp.pitch) || !std::isfinite(sp.yaw))
-    return;
+  if (!begin_sweep(std::int64_t(cloud.stamp_ns), sp)) return;
+  bin_points(cloud, 0, cloud.count);
+  end_sweep();
+}
 
+bool ElevationLayer::begin_sweep(std::int64_t stamp_ns, const Pose3& sp) {
+  last_points_ = last_cells_ = 0;
+  in_sweep_ = false;
+  sweep_stamp_ns_ = stamp_ns;
+  if (!std::isfinite(sp.x) || !std::isfinite(sp.y) || !std::isfinite(sp.z) ||
+      !std::isfinite(sp.roll) || !std::isfinite(sp.pitch) || !std::isfinite(sp.yaw)) {
+    grow_variances_to(stamp_ns);  // time passed all the same
+    return false;
+  }
   if (++sweep_ == 0) {  // wrapped: old marks could alias the new numbers
     const std::size_t n = std::size_t(grid_.nx()) * std::size_t(grid_.ny());
     for (std::size_t i = 0; i < n; ++i) mark_[i] = 0;
@@ -72,14 +81,24 @@ void ElevationLayer::fuse(const hal::PointCloud& cloud, const Pose3& sp) {
   }
   const Mat3 rd = config_.use_imu_attitude ? rotation_of(sp.roll, sp.pitch, sp.yaw)
                                            : rotation_of(0.0, 0.0, sp.yaw);
+  for (int i = 0; i < 9; ++i) r_[i] = float(rd(i / 3, i % 3));
   // Floats in the inner loop; positions relative to the window's corner keep them precise.
+  tx_ = float((sp.x - grid_.origin_x()) / grid_.resolution());
+  ty_ = float((sp.y - grid_.origin_y()) / grid_.resolution());
+  tz_ = float(sp.z);
+  used_ = touched_count_ = next_touched_ = 0;
+  in_sweep_ = true;
+  fusing_ = false;
+  return true;
+}
+
+void ElevationLayer::bin_points(const hal::PointCloud& cloud, std::uint32_t first,
+                                std::uint32_t n) {
+  if (!in_sweep_ || fusing_) return;  // not begun, or already fusing
   const float inv_res = float(1.0 / grid_.resolution());
-  const float r00 = float(rd(0, 0)), r01 = float(rd(0, 1)), r02 = float(rd(0, 2));
-  const float r10 = float(rd(1, 0)), r11 = float(rd(1, 1)), r12 = float(rd(1, 2));
-  const float r20 = float(rd(2, 0)), r21 = float(rd(2, 1)), r22 = float(rd(2, 2));
-  const float tx = float((sp.x - grid_.origin_x()) / grid_.resolution());
-  const float ty = float((sp.y - grid_.origin_y()) / grid_.resolution());
-  const float tz = float(sp.z);
+  const float r00 = r_[0], r01 = r_[1], r02 = r_[2], r10 = r_[3], r11 = r_[4], r12 = r_[5];
+  const float r20 = r_[6], r21 = r_[7], r22 = r_[8];
+  const float tx = tx_, ty = ty_, tz = tz_;
   const float min_r2 = float(config_.min_range_m * config_.min_range_m);
   const float max_r2 = float(config_.max_range_m * config_.max_range_m);
   const float s0 = float(config_.noise_sigma_m), s2 = float(config_.noise_range_coeff);
@@ -88,8 +107,9 @@ void ElevationLayer::fuse(const hal::PointCloud& cloud, const Pose3& sp) {
   const std::uint32_t count = cloud.count < std::uint32_t(hal::kMaxCloudPoints)
                                   ? cloud.count
                                   : std::uint32_t(hal::kMaxCloudPoints);
-  std::uint32_t used = 0, touched = 0;
-  for (std::uint32_t i = 0; i < count; ++i) {
+  const std::uint32_t end = first < count ? first + std::min(n, count - first) : first;
+  std::uint32_t used = used_, touched = touched_count_;
+  for (std::uint32_t i = first; i < end; ++i) {
     const hal::CloudPoint& p = cloud.points[i];
     const float r2 = p.x * p.x + p.y * p.y + p.z * p.z;
     // NaN or inf makes r2 NaN or inf: both comparisons below are quiet and reject it.
@@ -111,11 +131,35 @@ void ElevationLayer::fuse(const hal::PointCloud& cloud, const Pose3& sp) {
       scan_var_[k] = sigma * sigma;
     }
   }
+  used_ = used;
+  touched_count_ = touched;
+}
 
+void ElevationLayer::grow_variances_to(std::int64_t stamp_ns) {
+  if (last_stamp_ns_ >= 0 && stamp_ns > last_stamp_ns_)
+    add_process_noise(double(stamp_ns - last_stamp_ns_) * 1e-9);
+  last_stamp_ns_ = stamp_ns;
+}
+
+void ElevationLayer::end_sweep() {
+  while (!fuse_step(0xFFFFFFFFU)) {
+  }
+}
+
+bool ElevationLayer::fuse_step(std::uint32_t max_cells) {
+  if (!in_sweep_) return true;
+  if (!fusing_) {  // the first step: one sequential pass ages every cell, binning is over
+    grow_variances_to(sweep_stamp_ns_);
+    fusing_ = true;
+    if (touched_count_ > 0) return false;
+  }
+  const int nx = grid_.nx();
+  const std::uint32_t end =
+      touched_count_ - next_touched_ > max_cells ? next_touched_ + max_cells : touched_count_;
   const float gate = float(config_.gate_sigmas), offset = float(config_.gate_offset_m);
   const float grow = float(config_.multi_height_noise_m2), cap = float(config_.max_variance_m2);
   const int ocx = grid_.origin_cx(), ocy = grid_.origin_cy();
-  for (std::uint32_t t = 0; t < touched; ++t) {
+  for (std::uint32_t t = next_touched_; t < end; ++t) {
     const std::uint32_t k = touched_[t];
     const int lx = int(k % std::uint32_t(nx)), ly = int(k / std::uint32_t(nx));
     ElevationCell& c = grid_.at(ocx + lx, ocy + ly);
@@ -138,8 +182,12 @@ void ElevationLayer::fuse(const hal::PointCloud& cloud, const Pose3& sp) {
       c.variance_m2 = v * vm / sum;
     }
   }
-  last_points_ = used;
-  last_cells_ = touched;
+  next_touched_ = end;
+  if (end < touched_count_) return false;
+  in_sweep_ = false;
+  last_points_ = used_;
+  last_cells_ = touched_count_;
+  return true;
 }
 
 }  // namespace carril::fw

@@ -52,6 +52,18 @@ class ElevationLayer {
   // of [min_range_m, max_range_m] are skipped. The time since the previous sweep's stamp first
   // grows every observed cell's variance. No allocation.
   void fuse(const hal::PointCloud& cloud, const Pose3& sensor_pose);
+  // The same in pieces, to spread a sweep over ticks: begin_sweep(), then bin_points() over
+  // consecutive ranges of the cloud (each point once), then fuse_step() until it returns true
+  // (or end_sweep()), which alone change the map. A begin_sweep() before the first fuse_step()
+  // abandons the sweep in progress, the map unchanged. The window must not move in between.
+  // begin_sweep() returns false (nothing started) for a non-finite pose.
+  bool begin_sweep(std::int64_t stamp_ns, const Pose3& sensor_pose);
+  // Bins points [first, first + count) of `cloud` (clipped to its count) into the sweep.
+  void bin_points(const hal::PointCloud& cloud, std::uint32_t first, std::uint32_t count);
+  // Fuses up to max_cells of the binned cells (the first call only ages every cell's variance,
+  // one sequential pass over the window); true when the sweep is complete.
+  bool fuse_step(std::uint32_t max_cells);
+  void end_sweep();
   // Grows every observed cell's variance by process_noise * dt_s [s] (fuse() does it itself).
   void add_process_noise(double dt_s);
 
@@ -71,6 +83,13 @@ class ElevationLayer {
   std::unique_ptr<float[]> scan_var_;
   std::unique_ptr<std::uint32_t[]> touched_;  // local indices written this sweep
   std::uint32_t sweep_ = 0;
+  // The sweep in progress: sensor rotation, its position in cells from the window's corner.
+  bool in_sweep_ = false, fusing_ = false;
+  float r_[9] = {};
+  float tx_ = 0.0F, ty_ = 0.0F, tz_ = 0.0F;
+  std::uint32_t used_ = 0, touched_count_ = 0, next_touched_ = 0;
+  std::int64_t sweep_stamp_ns_ = 0;
+  void grow_variances_to(std::int64_t stamp_ns);
   std::int64_t last_stamp_ns_ = -1;
   std::uint32_t last_points_ = 0, last_cells_ = 0;
 };

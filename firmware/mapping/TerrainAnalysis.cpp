@@ -34,6 +34,7 @@ Status TerrainConfig::validate() const {
       .range("drop_radius_m", drop_radius_m, 0.0, 5.0, "m")
       .range("min_points", double(min_points), 3.0, 10000.0, "cells")
       .range("min_spread_m", min_spread_m, 0.0, 1.0, "m")
+      .range("frontier_min_unseen", frontier_min_unseen, 0.01, 1.0, "")
       .result();
 }
 
@@ -270,6 +271,8 @@ void TerrainAnalysis::compute(const RollingGrid<ElevationCell>& elevation, int l
   const double min_points = double(config_.min_points);
   const double min_spread = (config_.min_spread_m * inv_res) * (config_.min_spread_m * inv_res);
   const double step_box = double((2 * ks_ + 1) * (2 * ks_ + 1));
+  // A frontier has at least this many of its step box's cells observed no more.
+  const double frontier_seen_max = step_box - std::ceil(config_.frontier_min_unseen * step_box);
   auto corner = [&](int x, int y) -> const Moments& {
     return I[std::size_t(y - iy0) * std::size_t(iw) + std::size_t(x - ix0)];
   };
@@ -308,10 +311,10 @@ void TerrainAnalysis::compute(const RollingGrid<ElevationCell>& elevation, int l
       step_up_[i] = std::max(0.0F, -hmax_[i] - hc);
       step_down_[i] = std::max(0.0F, hc - hmin_[i]);
 
-      // A frontier: the step box, clipped to the window, is not full of observed cells (unseen
-      // cells within it, or the window's edge).
+      // A frontier: enough of the step box, clipped to the window, is unseen (or beyond the
+      // window's edge).
       if (drops && box_count(std::max(0, x - ks_), std::max(0, y - ks_), std::min(nx_ - 1, x + ks_),
-                             std::min(ny_ - 1, y + ks_)) < step_box) {
+                             std::min(ny_ - 1, y + ks_)) <= frontier_seen_max) {
         float mn = kBig;
         for (int j = std::max(0, y - kd_); j <= std::min(ny_ - 1, y + kd_); ++j)
           mn = std::min(mn, dmin_[index(x, j)]);

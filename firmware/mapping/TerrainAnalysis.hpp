@@ -11,9 +11,10 @@
 // Gershgorin bound, no trigonometry; the eigenvector from row cross products).
 //
 // A step down seen from the upper level hides the ground just beyond the edge (occlusion), so
-// the step neighbourhood there holds no lower cell. For such frontier cells (an unobserved cell
-// within the step neighbourhood), drop_m is the drop to the lowest observed cell within
-// drop_radius_m, across the unseen gap: the edge is judged without seeing the ground below it.
+// the step neighbourhood there holds no lower cell. For such frontier cells (a fifth or more of
+// the step neighbourhood unobserved: a shadow, not a single cell between two lidar rings),
+// drop_m is the drop to the lowest observed cell within drop_radius_m, across the unseen gap:
+// the edge is judged without seeing the ground below it.
 #include <cstdint>
 #include <memory>
 
@@ -28,7 +29,10 @@ struct TerrainConfig {
   double normal_radius_m = 0.15;  // half-side of the square plane-fit neighbourhood [m]
   double step_radius_m = 0.10;    // half-side of the square step neighbourhood [m]
   double drop_radius_m = 0.50;    // half-side of the frontier drop search [m]
-  int min_points = 6;             // observed cells a plane fit needs [cells]
+  // A cell is a frontier when at least this fraction of its step box is unseen (or beyond the
+  // window): a shadow behind an edge, not the odd cell the lidar's rings skipped [0..1].
+  double frontier_min_unseen = 0.2;
+  int min_points = 6;          // observed cells a plane fit needs [cells]
   double min_spread_m = 0.03;  // RMS spread of those cells across their weakest in-plane axis [m]
 
   Status validate() const;

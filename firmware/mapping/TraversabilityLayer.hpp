@@ -31,6 +31,9 @@ class TraversabilityLayer {
   // Recomputes the cells of the analysis' last computed rectangle (the window follows the
   // analysis' window). No allocation.
   void update(const TerrainAnalysis& terrain, const TraversabilityProfile& profile);
+  // Moves the window to global cell origin (cx, cy) ahead of the analysis (cells that enter are
+  // unknown until it reaches them), so that the layer can be combined while a cycle runs.
+  void move_window(int origin_cx, int origin_cy) { grid_.move_origin(origin_cx, origin_cy); }
 
   // Cost of one cell from its terrain figures [rad, m, m, m].
   static std::uint8_t classify(TerrainStatus status, float slope_rad, float step_up_m,

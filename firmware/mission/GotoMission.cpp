@@ -16,6 +16,9 @@ Status GotoConfig::validate() const {
       .range("goal_clear_m", goal_clear_m, 0.0, 2.0, "m")
       .range("replan_lookahead_m", replan_lookahead_m, 0.1, 50.0, "m")
       .range("emergency_stop_m", emergency_stop_m, 0.0, 1.0, "m")
+      .range("backup_m", backup_m, 0.0, 2.0, "m")
+      .range("backup_speed_mps", backup_speed_mps, 0.01, 1.0, "m/s")
+      .range("max_recoveries", double(max_recoveries), 0.0, 1000.0, "stops")
       .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
       .range("goal.x", goal.x, -1000.0, 1000.0, "m")
       .range("goal.y", goal.y, -1000.0, 1000.0, "m")
@@ -35,6 +38,8 @@ const char* goto_state_name(GotoMission::State s) {
       return "PLAN";
     case GotoMission::State::Follow:
       return "FOLLOW";
+    case GotoMission::State::Backup:
+      return "BACKUP";
     case GotoMission::State::Approach:
       return "APPROACH";
     case GotoMission::State::Align:
@@ -79,7 +84,7 @@ void GotoMission::enter(const MissionContext&) {
   phase_change_ = "wait";
   waypoints_.clear();
   cells_.clear();
-  plans_ = replans_ = emergency_stops_ = 0;
+  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = 0;
   fault_ = Fault::None;
 }
 
@@ -94,6 +99,7 @@ MissionState GotoMission::state() const {
       break;
     case State::Plan:
     case State::Follow:
+    case State::Backup:
       s.status = MissionStatus::Active;
       break;
     case State::Approach:
@@ -139,6 +145,8 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
       return plan_step(pose);
     case State::Follow:
       return follow(pose);
+    case State::Backup:
+      return backup(pose);
     case State::Approach: {
       bool arrived = false;
       MissionOutput out;
@@ -284,16 +292,47 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
 
 // A lethal cell just ahead of the body (within emergency_stop_m of its front edge).
 bool GotoMission::lethal_ahead(const Pose2& pose) const {
+  return lethal_at_edge(pose, footprint_.half_length_m + cfg_.emergency_stop_m);
+}
+
+// A lethal cell on the body's cross line at x_body (body frame) [m], across its width.
+bool GotoMission::lethal_at_edge(const Pose2& pose, double x_body) const {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
-  const double front = footprint_.half_length_m + cfg_.emergency_stop_m;
   for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m;
        y += 0.5 * m.resolution()) {
-    const Vec2 p = to_world(pose, Vec2(front, y));
+    const Vec2 p = to_world(pose, Vec2(x_body, y));
     if ((p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m) continue;
     int cx = 0, cy = 0;
     if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;
   }
   return false;
+}
+
+// The costmap says the body is about to touch something: stop, back off, plan again; give up
+// after max_recoveries stops in a row without getting anywhere.
+MissionOutput GotoMission::emergency_stop(const Pose2& pose) {
+  ++emergency_stops_;
+  const Vec2 here(pose.x, pose.y);
+  if (stops_in_a_row_ > 0 && (here - last_stop_at_).norm() > 2.0 * cfg_.backup_m) {
+    stops_in_a_row_ = 0;  // it got somewhere since the last one
+  }
+  last_stop_at_ = here;
+  if (++stops_in_a_row_ > cfg_.max_recoveries) return fail(Fault::NoPath);
+  backup_from_ = here;
+  go(State::Backup, "backup");
+  return {};
+}
+
+MissionOutput GotoMission::backup(const Pose2& pose) {
+  const bool far_enough = (Vec2(pose.x, pose.y) - backup_from_).norm() >= cfg_.backup_m;
+  if (far_enough || lethal_at_edge(pose, -(footprint_.half_length_m + cfg_.emergency_stop_m))) {
+    ++replans_;
+    go(State::Plan, "replan");
+    return plan_step(pose);
+  }
+  MissionOutput out;
+  out.motion.twist.vx = -cfg_.backup_speed_mps;
+  return out;
 }
 
 MissionOutput GotoMission::follow(const Pose2& pose) {
@@ -321,13 +360,7 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     progress_ = pure_pursuit_.progress();
     at_end = pure_pursuit_.at_end();
   }
-  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) {
-    // The costmap says the body is about to touch something: stop and plan again.
-    ++emergency_stops_;
-    ++replans_;
-    go(State::Plan, "replan");
-    return {};
-  }
+  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) return emergency_stop(pose);
   if (at_end) go(State::Approach, "approach");
   return out;
 }

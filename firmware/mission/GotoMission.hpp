@@ -9,7 +9,13 @@
 //   WAIT --drives ready, costmap updated--> PLAN --path--> FOLLOW --end of path--> APPROACH
 //   APPROACH --within goal_tolerance_m--> ALIGN --heading within yaw_tolerance--> DONE
 //   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
+//   FOLLOW --a lethal cell just ahead of the body--> BACKUP --backed off--> PLAN
 //   PLAN --no path / goal invalid--> FAILED (fault)
+//   BACKUP --more than max_recoveries in a row--> FAILED (no_path)
+//
+// BACKUP is the recovery of a robot that has come too close: replanning from where it stands
+// gives the same path into the same cell again (the start may lie in inflation), so it first
+// reverses backup_m (no further than the clear ground behind it), then plans.
 #include <cstdint>
 #include <memory>
 
@@ -39,9 +45,14 @@ struct GotoConfig {
   double goal_tolerance_m = 0.08;   // creep until this close (the goal is 0.1 m) [m]
   double yaw_tolerance_rad = 0.07;  // turn until this close (the goal is 10 deg) [rad]
   double approach_m = 0.35;         // the last stretch, driven onto the goal [m]
-  std::uint32_t plan_expansions_per_tick = 4000;  // the planner's budget per tick (~0.3 ms) [cells]
+  std::uint32_t plan_expansions_per_tick =
+      2000;                         // the planner's budget per tick (~0.15 ms) [cells]
   double replan_lookahead_m = 3.0;  // obstacles on the path this far ahead cause a replan [m]
   double emergency_stop_m = 0.05;   // a lethal cell this close ahead of the body stops [m]
+  double backup_m = 0.2;            // reversed after such a stop, before replanning [m]
+  double backup_speed_mps = 0.1;    // speed of that [m/s]
+  // Stops in a row (no progress of backup_m * 2 between) before the mission gives up [stops].
+  std::uint32_t max_recoveries = 5;
   // The terrain round the goal may still read lethal from afar (a crest hides what lies beyond
   // it): the planner takes the cells this close to the goal as passable, unless the 2D lidar has
   // seen something on the goal itself (then the goal is invalid) [m].
@@ -67,7 +78,7 @@ class GotoMission final : public Mission {
   const char* take_phase_change() override;
   void counters(MissionCounters& out) const override;
 
-  enum class State : std::uint8_t { Wait, Plan, Follow, Approach, Align, Done, Failed };
+  enum class State : std::uint8_t { Wait, Plan, Follow, Backup, Approach, Align, Done, Failed };
   State current() const { return state_; }
   std::uint32_t replans() const { return replans_; }
   // The path being followed, odometry frame (for plots and tests).
@@ -80,6 +91,9 @@ class GotoMission final : public Mission {
   MissionOutput follow(const Pose2& pose);
   bool path_blocked_ahead(const Pose2& pose) const;
   bool lethal_ahead(const Pose2& pose) const;
+  bool lethal_at_edge(const Pose2& pose, double x_body) const;
+  MissionOutput emergency_stop(const Pose2& pose);
+  MissionOutput backup(const Pose2& pose);
   bool start_cell(const Pose2& pose, GridCell& out) const;
   bool goal_in_obstacle(int gx, int gy) const;
   MissionOutput fail(Fault f);
@@ -104,6 +118,8 @@ class GotoMission final : public Mission {
   StaticVector<Vec2, kMaxWaypoints> waypoints_;
   std::size_t progress_ = 0;  // index of the path segment the follower is on
   std::uint32_t plans_ = 0, replans_ = 0, emergency_stops_ = 0;
+  std::uint32_t stops_in_a_row_ = 0;
+  Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
   Fault fault_ = Fault::None;
 };
 

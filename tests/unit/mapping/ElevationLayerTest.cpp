@@ -204,6 +204,56 @@ TEST(ElevationLayerTest, ImuAttitudeCompensation) {
   }
 }
 
+// A sweep binned in pieces over several ticks gives the map fuse() gives in one; a sweep
+// abandoned half way (a newer one began) leaves the map as it was.
+TEST(ElevationLayerTest, ASweepInPiecesEqualsOneFuseAndAnAbandonedOneChangesNothing) {
+  auto cloud = std::make_unique<hal::PointCloud>();
+  synth::render(synth::ramp(1.0, 2.0, 5.0), 0.5, sensor_at(0, 0, 0.7), {}, *cloud);
+  ASSERT_GT(cloud->count, 10000U);
+  ElevationLayer whole, pieces;
+  for (ElevationLayer* l : {&whole, &pieces}) {
+    ASSERT_TRUE(l->init(small_config()).is_ok());
+    l->recenter(0.0, 0.0);
+  }
+  const Pose3 s = sensor_at(0.02, -0.01, 0.7);
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    cloud->stamp_ns += 200'000'000;
+    whole.fuse(*cloud, s);
+    // An abandoned start first: half its points binned, then a new begin.
+    ASSERT_TRUE(pieces.begin_sweep(std::int64_t(cloud->stamp_ns), s));
+    pieces.bin_points(*cloud, 0, cloud->count / 2);
+    ASSERT_TRUE(pieces.begin_sweep(std::int64_t(cloud->stamp_ns), s));
+    for (std::uint32_t first = 0; first < cloud->count; first += 4096)
+      pieces.bin_points(*cloud, first, 4096);
+    int steps = 1;
+    ASSERT_FALSE(pieces.fuse_step(0));  // a step of nothing ages once, fuses nothing
+    while (!pieces.fuse_step(500)) ++steps;
+    EXPECT_GT(steps, 2);
+  }
+  EXPECT_EQ(pieces.last_points_used(), whole.last_points_used());
+  EXPECT_EQ(pieces.last_cells_updated(), whole.last_cells_updated());
+  int observed = 0;
+  for (int ly = 0; ly < whole.grid().ny(); ++ly)
+    for (int lx = 0; lx < whole.grid().nx(); ++lx) {
+      const ElevationCell &a = whole.grid().local(lx, ly), &b = pieces.grid().local(lx, ly);
+      ASSERT_EQ(a.observed(), b.observed());
+      if (!a.observed()) continue;
+      ++observed;
+      ASSERT_EQ(a.height_m, b.height_m);
+      ASSERT_EQ(a.variance_m2, b.variance_m2);
+    }
+  EXPECT_GT(observed, 1000);
+
+  // Begun and binned but never ended: the map is untouched.
+  ElevationLayer l;
+  ASSERT_TRUE(l.init(small_config()).is_ok());
+  l.recenter(0.0, 0.0);
+  ASSERT_TRUE(l.begin_sweep(1, s));
+  l.bin_points(*cloud, 0, cloud->count);
+  for (int ly = 0; ly < l.grid().ny(); ++ly)
+    for (int lx = 0; lx < l.grid().nx(); ++lx) ASSERT_FALSE(l.grid().local(lx, ly).observed());
+}
+
 TEST(ElevationLayerTest, FuseDoesNotAllocate) {
   auto cloud = std::make_unique<hal::PointCloud>();
   ElevationLayer l;

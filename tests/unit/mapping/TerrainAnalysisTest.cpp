@@ -96,6 +96,26 @@ TEST(TerrainAnalysisTest, DropAcrossAnUnseenGap) {
   EXPECT_EQ(f.ta.status()[f.at(0.1, 0.0)], TerrainStatus::kUnobserved);
 }
 
+// A cell the lidar's rings skipped on a 13 cm plateau, 0.3 m from its edge: not a shadow, so
+// its neighbours measure no drop toward the lower ground beyond the edge (a single hole once
+// made a lethal blob in the middle of a traversable hill).
+TEST(TerrainAnalysisTest, AnIsolatedHoleIsNoFrontier) {
+  Fixture f;
+  synth::fill(f.grid, [](double, double y) { return y > -0.5 ? 0.13 : 0.0; });
+  f.grid.local(40, 36) = ElevationCell{};  // y = -0.175 m
+  f.grid.local(44, 36) = ElevationCell{};  // two of the 25 cells of a box
+  f.grid.local(45, 37) = ElevationCell{};
+  f.ta.compute(f.grid);
+  for (int ly = 30; ly < 42; ++ly)
+    for (int lx = 35; lx < 50; ++lx)
+      if (f.grid.local(lx, ly).observed()) ASSERT_EQ(f.ta.drop_m()[f.ta.index(lx, ly)], 0.0F);
+  // A shadow five cells wide is one.
+  for (int lx = 20; lx < 25; ++lx)
+    for (int ly = 30; ly < 42; ++ly) f.grid.local(lx, ly) = ElevationCell{};
+  f.ta.compute(f.grid);
+  EXPECT_NEAR(f.ta.drop_m()[f.ta.index(19, 36)], 0.13F, 1e-5F);
+}
+
 TEST(TerrainAnalysisTest, SubRectangleMatchesTheWholeWindow) {
   Fixture whole, part;
   auto s = [](double x, double y) { return 0.1 * std::sin(3 * x) + 0.05 * std::cos(4 * y); };

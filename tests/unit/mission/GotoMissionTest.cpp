@@ -120,6 +120,40 @@ TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
   EXPECT_GT(r.min_wall_distance, 0.25);
 }
 
+// The robot stands with a lethal cell just ahead of its front edge and its start in the
+// inflation: replanning from there gives the same path into the same cell. It backs off, then
+// plans and gets round (this looped in PLAN -> FOLLOW -> PLAN until the time limit before).
+TEST(GotoMissionTest, BacksOffFromALethalCellJustAheadThenGetsRound) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.costmap.wall(0.27, -0.2, 0.34, 0.2);
+  r.start();
+  double min_x = 0.0;
+  bool backed_up = false;
+  for (int i = 0; i < 600 && r.mission->current() != GotoMission::State::Done; ++i) {
+    r.run(0.1);
+    min_x = std::fmin(min_x, r.pose.x);
+    backed_up = backed_up || r.mission->current() == GotoMission::State::Backup;
+  }
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_TRUE(backed_up);
+  EXPECT_LT(min_x, -0.1);  // it reversed
+  MissionCounters c;
+  r.mission->counters(c);
+  EXPECT_GE(c[2].value, 1U);  // emergency_stops
+}
+
+// Recoveries are bounded: with none allowed, the first such stop ends the mission (no_path)
+// instead of a loop.
+TEST(GotoMissionTest, StopsInARowBeyondTheLimitEndInNoPath) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.cfg.max_recoveries = 0;
+  r.costmap.wall(0.27, -0.2, 0.34, 0.2);
+  r.start();
+  const MissionOutput out = r.run(20.0);
+  EXPECT_EQ(out.fault, Fault::NoPath);
+  EXPECT_EQ(r.mission->state().status, MissionStatus::Failed);
+}
+
 TEST(GotoMissionTest, EnclosedGoalEndsInNoPath) {
   Rig r(Pose2{2.0, 0.0, 0.0});
   r.costmap.wall(1.4, -0.7, 1.5, 0.7);
