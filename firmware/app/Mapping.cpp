@@ -54,6 +54,13 @@ Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<Sens
                          cfg_.costmap.resolution_m);
     (void)traversability_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
   }
+  // Place the windows round the odometry origin (the start pose) now, at init: the first tick
+  // then moves them by the start pose's few cells at most, instead of laying out every cell.
+  costmap_.recenter(0.0, 0.0);
+  if (cfg_.terrain) {
+    elevation_.recenter(0.0, 0.0);
+    traversability_.move_window(elevation_.grid().origin_cx(), elevation_.grid().origin_cy());
+  }
 }
 
 void Mapping::run() {

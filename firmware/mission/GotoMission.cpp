@@ -243,6 +243,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
     plan_cy0_ = m.origin_cy();
     // No early stop at the robot's cell: when it stands in inflation a neighbour is taken.
     ++plans_;
+    return {};  // copying the costmap and seeding the planner are this tick's work
   }
   const WavefrontStatus s = planner_.step(cfg_.plan_expansions_per_tick);
   if (s == WavefrontStatus::Running) return {};  // stopped while planning
