@@ -1,5 +1,6 @@
 #include "firmware/mission/GotoMission.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
@@ -19,6 +20,7 @@ Status GotoConfig::validate() const {
       .range("backup_m", backup_m, 0.0, 2.0, "m")
       .range("backup_speed_mps", backup_speed_mps, 0.01, 1.0, "m/s")
       .range("max_recoveries", double(max_recoveries), 0.0, 1000.0, "stops")
+      .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
       .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
       .range("goal.x", goal.x, -1000.0, 1000.0, "m")
       .range("goal.y", goal.y, -1000.0, 1000.0, "m")
@@ -299,8 +301,10 @@ bool GotoMission::lethal_ahead(const Pose2& pose) const {
 // A lethal cell on the body's cross line at x_body (body frame) [m], across its width.
 bool GotoMission::lethal_at_edge(const Pose2& pose, double x_body) const {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
-  for (double y = -footprint_.half_width_m; y <= footprint_.half_width_m;
-       y += 0.5 * m.resolution()) {
+  // Samples every half cell across the width, both edges included.
+  const int n = static_cast<int>(std::ceil(2.0 * footprint_.half_width_m / (0.5 * m.resolution())));
+  for (int k = 0; k <= n; ++k) {
+    const double y = -footprint_.half_width_m + 2.0 * footprint_.half_width_m * k / std::max(n, 1);
     const Vec2 p = to_world(pose, Vec2(x_body, y));
     if ((p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m) continue;
     int cx = 0, cy = 0;
@@ -361,7 +365,16 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     progress_ = pure_pursuit_.progress();
     at_end = pure_pursuit_.at_end();
   }
-  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) return emergency_stop(pose);
+  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) {
+    // Turning toward the path: do it in place (the front is what is close). Heading straight
+    // on into the cell: stop, back off and plan again.
+    if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
+      out.motion.twist.vx = 0.0;
+      out.motion.twist.vy = 0.0;
+      return out;
+    }
+    return emergency_stop(pose);
+  }
   if (at_end) go(State::Approach, "approach");
   return out;
 }

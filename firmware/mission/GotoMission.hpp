@@ -9,7 +9,8 @@
 //   WAIT --drives ready, costmap updated--> PLAN --path--> FOLLOW --end of path--> APPROACH
 //   APPROACH --within goal_tolerance_m--> ALIGN --heading within yaw_tolerance--> DONE
 //   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
-//   FOLLOW --a lethal cell just ahead of the body--> BACKUP --backed off--> PLAN
+//   FOLLOW --a lethal cell just ahead, the path straight on--> BACKUP --backed off--> PLAN
+//   (the path turning: FOLLOW turns in place until the front is clear)
 //   PLAN --no path / goal invalid--> FAILED (fault)
 //   BACKUP --more than max_recoveries in a row--> FAILED (no_path)
 //
@@ -53,6 +54,9 @@ struct GotoConfig {
   double backup_speed_mps = 0.1;    // speed of that [m/s]
   // Stops in a row (no progress of backup_m * 2 between) before the mission gives up [stops].
   std::uint32_t max_recoveries = 5;
+  // With a lethal cell just ahead, a follower turning at least this fast turns in place instead
+  // of stopping [rad/s].
+  double turn_in_place_min_radps = 0.2;
   // The terrain round the goal may still read lethal from afar (a crest hides what lies beyond
   // it): the planner takes the cells this close to the goal as passable, unless the 2D lidar has
   // seen something on the goal itself (then the goal is invalid) [m].

@@ -46,6 +46,13 @@ class TestCostmap final : public CostmapView {
     ++updates_;
   }
   void touch() { ++updates_; }
+  // One lethal cell at (x, y) [m] with no inflation round it: a master that has not caught up
+  // with an obstacle yet (the next rebuild inflates it).
+  void bare_lethal(double x, double y) {
+    int cx = 0, cy = 0;
+    if (master_.world_to_cell(x, y, cx, cy)) master_.at(cx, cy) = cost::kLethal;
+    ++updates_;
+  }
 
  private:
   RollingGrid<std::uint8_t> master_, obstacles_;
@@ -120,38 +127,62 @@ TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
   EXPECT_GT(r.min_wall_distance, 0.25);
 }
 
-// The robot stands with a lethal cell just ahead of its front edge and its start in the
-// inflation: replanning from there gives the same path into the same cell. It backs off, then
-// plans and gets round (this looped in PLAN -> FOLLOW -> PLAN until the time limit before).
+// A lethal cell just ahead of the front edge, the path running straight on past it (the master
+// has not inflated it yet): the robot stops and backs off rather than replanning where it
+// stands (which gave the same path into the same cell: PLAN -> FOLLOW -> PLAN until the time
+// limit). Once the master shows the obstacle inflated, the new plan goes round.
 TEST(GotoMissionTest, BacksOffFromALethalCellJustAheadThenGetsRound) {
   Rig r(Pose2{2.0, 0.0, 0.0});
-  r.costmap.wall(0.27, -0.2, 0.34, 0.2);
+  r.costmap.bare_lethal(0.325, 0.025);
   r.start();
   double min_x = 0.0;
-  bool backed_up = false;
-  for (int i = 0; i < 600 && r.mission->current() != GotoMission::State::Done; ++i) {
+  for (int i = 0; i < 50 && r.mission->current() != GotoMission::State::Backup; ++i) r.run(0.1);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Backup);
+  for (int i = 0; i < 30 && r.mission->current() == GotoMission::State::Backup; ++i) {
     r.run(0.1);
     min_x = std::fmin(min_x, r.pose.x);
-    backed_up = backed_up || r.mission->current() == GotoMission::State::Backup;
   }
+  EXPECT_LT(min_x, -0.15);  // it reversed about backup_m
+  r.costmap.wall(0.30, 0.0, 0.35, 0.05);
+  r.run(60.0);
   EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
-  EXPECT_TRUE(backed_up);
-  EXPECT_LT(min_x, -0.1);  // it reversed
   MissionCounters c;
   r.mission->counters(c);
   EXPECT_GE(c[2].value, 1U);  // emergency_stops
 }
 
-// Recoveries are bounded: with none allowed, the first such stop ends the mission (no_path)
-// instead of a loop.
+// Recoveries are bounded: when every plan leads into the same stop, the mission ends in no_path
+// after max_recoveries + 1 stops in a row instead of looping.
 TEST(GotoMissionTest, StopsInARowBeyondTheLimitEndInNoPath) {
   Rig r(Pose2{2.0, 0.0, 0.0});
-  r.cfg.max_recoveries = 0;
-  r.costmap.wall(0.27, -0.2, 0.34, 0.2);
+  r.costmap.bare_lethal(0.325, 0.025);  // never inflated
   r.start();
-  const MissionOutput out = r.run(20.0);
+  const MissionOutput out = r.run(60.0);
   EXPECT_EQ(out.fault, Fault::NoPath);
   EXPECT_EQ(r.mission->state().status, MissionStatus::Failed);
+  MissionCounters c;
+  r.mission->counters(c);
+  EXPECT_EQ(c[2].value, r.cfg.max_recoveries + 1);
+}
+
+// A lethal cell just ahead while the path turns away from it: the robot turns in place (no
+// forward speed, no stop) until its front is clear, then drives on.
+TEST(GotoMissionTest, TurnsInPlaceWhenTheFrontIsCloseAndThePathTurns) {
+  Rig r(Pose2{0.0, 2.0, kPi / 2});  // the goal to the left
+  r.costmap.bare_lethal(0.325, 0.025);
+  r.start();
+  bool turned_in_place = false;
+  for (int i = 0; i < 3000 && r.mission->current() != GotoMission::State::Done; ++i) {
+    const MissionOutput out = r.run(0.01);
+    if (r.mission->current() == GotoMission::State::Follow && out.motion.twist.vx == 0.0 &&
+        std::fabs(out.motion.twist.wz) > 0.1)
+      turned_in_place = true;
+  }
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_TRUE(turned_in_place);
+  MissionCounters c;
+  r.mission->counters(c);
+  EXPECT_EQ(c[2].value, 0U);  // no emergency stop
 }
 
 TEST(GotoMissionTest, EnclosedGoalEndsInNoPath) {
