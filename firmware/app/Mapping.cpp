@@ -25,6 +25,14 @@ Status MappingConfig::validate() const {
   return c.result();
 }
 
+CostmapConfig costmap_for_map(const CostmapConfig& cfg, const MapInfo& map) {
+  CostmapConfig c = cfg;
+  c.resolution_m = map.resolution_m;
+  c.size_x_m = (map.nx + 2) * map.resolution_m;
+  c.size_y_m = (map.ny + 2) * map.resolution_m;
+  return c;
+}
+
 // The pose at the tick nearest t_ns (the newest when t_ns is newer, the oldest kept when older).
 Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
   Pose3 best = pose3_.pose();
@@ -41,9 +49,14 @@ Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
 }
 
 Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-                 const Topic<OdometryMsg>& odom)
-    : cfg_(cfg), frame_(frame), odom_(odom) {
+                 const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map)
+    : cfg_(cfg), frame_(frame), odom_(pose) {
   if (!cfg_.enabled) return;
+  if (static_map != nullptr && !static_map->empty()) {
+    static_map_ = static_map;
+    cfg_.costmap = costmap_for_map(cfg_.costmap, static_map->info());
+    cfg_.terrain = false;
+  }
   // Init failures are configuration errors validate() already rejected.
   (void)costmap_.init(cfg_.costmap);
   master_divisor_ = std::max<std::uint32_t>(
@@ -53,6 +66,18 @@ Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<Sens
     (void)analysis_.init(cfg_.analysis, cfg_.costmap.nx(), cfg_.costmap.ny(),
                          cfg_.costmap.resolution_m);
     (void)traversability_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+  }
+  if (static_map_ != nullptr) {
+    // One window over the whole map, placed once.
+    const MapInfo& m = static_map_->info();
+    const double cx = m.origin_x_m + 0.5 * m.nx * m.resolution_m;
+    const double cy = m.origin_y_m + 0.5 * m.ny * m.resolution_m;
+    (void)static_layer_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+    static_layer_.place(*static_map_, cx, cy);
+    costmap_.recenter(cx, cy);
+    const RollingGrid<std::uint8_t>* layers[] = {&static_layer_.grid()};
+    costmap_.update_master(layers, 1);
+    return;
   }
   // Place the windows round the odometry origin (the start pose) now, at init: the first tick
   // then moves them by the start pose's few cells at most, instead of laying out every cell.
@@ -69,7 +94,7 @@ void Mapping::run() {
   const Pose2 pose = odom_.get().pose;
   if (!started_) {
     pose3_.reset(pose);
-    costmap_.recenter(pose.x, pose.y);
+    if (static_map_ == nullptr) costmap_.recenter(pose.x, pose.y);
     if (cfg_.terrain) {
       elevation_.recenter(pose.x, pose.y);
       traversability_.mark_start_free(pose.x, pose.y, cfg_.start_free_radius_m);
@@ -85,7 +110,7 @@ void Mapping::run() {
   history_.push({f.now_ns, pose3_.pose()});
   ++tick_;
 
-  if (!cfg_.terrain) {
+  if (!cfg_.terrain && static_map_ == nullptr) {
     // Obstacles only: the window follows the robot every tick (moving costs only the cells that
     // enter), the master is rebuilt at master_rate_hz.
     costmap_.recenter(pose.x, pose.y);
@@ -101,7 +126,12 @@ void Mapping::run() {
   }
   if (!cfg_.terrain) {
     if (tick_ % master_divisor_ == 0) {
-      costmap_.update_master();
+      if (static_map_ != nullptr) {
+        const RollingGrid<std::uint8_t>* layers[] = {&static_layer_.grid()};
+        costmap_.update_master(layers, 1);
+      } else {
+        costmap_.update_master();
+      }
       ++tel_.master_updates;
     }
     return;

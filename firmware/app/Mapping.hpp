@@ -9,6 +9,10 @@
 // master is rebuilt. Between, the master is rebuilt at master_rate_hz too (fresh obstacles, the
 // traversability as far as the analysis got, all on one window). A tick does one piece only: a
 // scan, a master rebuild or a terrain piece.
+//
+// On a known map (a static OccupancyGrid given), the costmap is in the map frame instead, read
+// with the localised pose: one window covering the whole map that never moves, the map's walls
+// as a static layer under the live obstacles (like Nav2's global costmap), no terrain.
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"
@@ -19,7 +23,9 @@
 #include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mapping/ElevationLayer.hpp"
 #include "firmware/mapping/LayeredCostmap.hpp"
+#include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/mapping/Pose3Tracker.hpp"
+#include "firmware/mapping/StaticLayer.hpp"
 #include "firmware/mapping/TerrainAnalysis.hpp"
 #include "firmware/mapping/TraversabilityLayer.hpp"
 
@@ -45,6 +51,10 @@ struct MappingConfig {
   Status validate() const;
 };
 
+// The costmap window for a known map: the map's resolution, its extent plus a cell on each side
+// (the map's origin need not fall on a cell boundary), the rest of cfg kept.
+CostmapConfig costmap_for_map(const CostmapConfig& cfg, const MapInfo& map);
+
 struct MappingTelemetry {
   std::uint32_t scans = 0;             // 2D scans integrated
   std::uint32_t sweeps = 0;            // 3D sweeps fused
@@ -56,9 +66,11 @@ struct MappingTelemetry {
 
 class Mapping final : public CostmapView {
  public:
-  // Allocates every grid (init time). cfg must have passed validate().
+  // Allocates every grid (init time). cfg must have passed validate(). pose is the robot's pose
+  // in the costmap's frame: odometry, or on a known map (static_map non-null, not empty, and
+  // outliving this) the localised pose in the map frame.
   Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-          const Topic<OdometryMsg>& odom);
+          const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map = nullptr);
 
   // Task: one tick of mapping work.
   void run();
@@ -75,11 +87,16 @@ class Mapping final : public CostmapView {
   const Pose3& pose3() const { return pose3_.pose(); }
   const MappingTelemetry& telemetry() const { return tel_; }
   const MappingConfig& config() const { return cfg_; }
+  // A known map is the static layer (the window then covers it and never moves).
+  bool on_map() const { return static_map_ != nullptr; }
+  const StaticLayer& static_layer() const { return static_layer_; }
 
  private:
   MappingConfig cfg_;
   const Topic<SensorFrame>& frame_;
   const Topic<OdometryMsg>& odom_;
+  const OccupancyGrid* static_map_ = nullptr;
+  StaticLayer static_layer_;
   LayeredCostmap costmap_;
   ElevationLayer elevation_;
   TerrainAnalysis analysis_;
