@@ -19,9 +19,20 @@ Status FirmwareConfig::validate() const {
       .nested(mapping.validate());
   if (mission == MissionKind::Goto) {
     c.nested(goto_mission.validate())
-        .fail_if(!mapping.enabled, "mapping.enabled", "must be true for goto (it plans on the costmap)");
+        .fail_if(!mapping.enabled, "mapping.enabled",
+                 "must be true for goto (it plans on the costmap)");
   }
   if (lidar.present) c.nested(lidar.validate());
+  c.nested(localisation.validate());
+  const bool have_map = map != nullptr && !map->empty();
+  c.fail_if(localisation.enabled && !have_map, "localisation.enabled",
+            "needs a static map (none given)")
+      .fail_if(have_map && !localisation.enabled, "localisation.enabled",
+               "must be true with a static map (the costmap is in the map frame)");
+  if (have_map && mapping.enabled) {
+    c.fail_if(!lidar.present, "lidar", "a 2D lidar is needed to localise on a map")
+        .nested(costmap_for_map(mapping.costmap, map->info()).validate());
+  }
   return c.result();
 }
 

@@ -3,6 +3,7 @@
 // description (rates, geometry, limits, sensor mounts) and each component's own config struct.
 // The loader (loader/) fills it from config/robots/*.yaml and the mission file; validate() checks
 // every field, and its error names the field, the value, its unit and the range.
+#include "firmware/app/Localisation.hpp"
 #include "firmware/app/Mapping.hpp"
 #include "firmware/control/MotionLimiter.hpp"
 #include "firmware/core/Status.hpp"
@@ -24,14 +25,19 @@ struct FirmwareConfig {
   double footprint_length_m = 0.5, footprint_width_m = 0.5;  // body outline [m]
   MotionLimits limits;
 
-  LinePerceptionConfig camera;   // camera mount and rate, tape colours, frame health
-  ObstacleSensingConfig lidar;   // lidar mount and rate, scan health
-  SensorWatchConfig watch;       // device timeouts, IMU health
-  MissionRunnerConfig runner;    // the obstacle stop
+  LinePerceptionConfig camera;  // camera mount and rate, tape colours, frame health
+  ObstacleSensingConfig lidar;  // lidar mount and rate, scan health
+  SensorWatchConfig watch;      // device timeouts, IMU health
+  MissionRunnerConfig runner;   // the obstacle stop
   MissionKind mission = MissionKind::FollowLine;  // which mission runs
-  FollowLineConfig follow_line;  // follow_line: strategy and state machine
-  GotoConfig goto_mission;       // goto: goal, planner and follower
-  MappingConfig mapping;         // the costmap (goto plans on it, follow_line avoids with it)
+  FollowLineConfig follow_line;                   // follow_line: strategy and state machine
+  GotoConfig goto_mission;                        // goto: goal, planner and follower
+  MappingConfig mapping;            // the costmap (goto plans on it, follow_line avoids with it)
+  LocalisationConfig localisation;  // on a known map: where the robot starts, how it localises
+  // The static map (the building), owned by the target's wiring file, which keeps it alive as
+  // long as the firmware; nullptr without one. Set: the costmap and the missions work in its
+  // frame, and localisation.enabled must be set.
+  const OccupancyGrid* map = nullptr;
 
   Status validate() const;
   Footprint footprint() const { return {0.5 * footprint_length_m, 0.5 * footprint_width_m}; }

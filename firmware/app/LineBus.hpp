@@ -6,7 +6,10 @@
 //   frame       SensorFrame      Controller       SensorWatch, WheelOdometry, LinePerception,
 //                                                 ObstacleSensing, MissionRunner, MotionOutput
 //   odometry    OdometryMsg      WheelOdometry    SensorWatch, LinePerception, ObstacleSensing,
-//                                                 FollowLineMission, MissionRunner (guard)
+//                                                 FollowLineMission, MissionRunner (guard),
+//                                                 Localisation
+//   pose        OdometryMsg      Localisation     Mapping, GotoMission (map frame; = odometry
+//                                                 without a map)
 //   line        LineObservation  LinePerception   FollowLineMission
 //   obstacles   ObstacleField    ObstacleSensing  FollowLineMission, MissionRunner (guard)
 //   motion      MotionRequest    MissionRunner    MotionOutput
@@ -26,6 +29,7 @@ struct LineBus {
 
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> odometry;
+  Topic<OdometryMsg> pose;
   Topic<LineObservation> line;
   Topic<ObstacleField> obstacles;
   Topic<MotionRequest> motion;

@@ -11,18 +11,17 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
       watch(cfg.watch, cfg.lidar.present, bus.frame, bus.odometry, controller),
       odometry(kinematics, bus.frame, bus.odometry),
+      localisation(cfg.localisation, cfg.map, bus.frame, bus.odometry, bus.pose),
       perception(cfg.camera, bus.frame, bus.odometry, bus.line, controller),
       obstacle_sensing(cfg.lidar, bus.frame, bus.odometry, bus.obstacles, controller),
-      mapping(cfg.mapping, cfg.rate_hz, bus.frame, bus.odometry),
+      mapping(cfg.mapping, cfg.rate_hz, bus.frame, bus.pose, cfg.map),
       mission(cfg.follow_line, cfg.footprint(), kinematics.holonomic(), cfg.lidar.present,
               bus.odometry, bus.line, bus.obstacles),
-      goto_mission(cfg.goto_mission, cfg.footprint(), kinematics.holonomic(), bus.odometry,
-                   mapping),
+      goto_mission(cfg.goto_mission, cfg.footprint(), kinematics.holonomic(), bus.pose, mapping),
       runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(),
              cfg.mission == MissionKind::Goto ? static_cast<Mission&>(goto_mission)
                                               : static_cast<Mission&>(mission),
-             bus.frame, bus.odometry, bus.obstacles, bus.motion, controller,
-             cfg.watch.imu_present),
+             bus.frame, bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
       cfg_(cfg) {
@@ -46,6 +45,7 @@ void LineFirmware::refresh_telemetry() {
   t.mission = active_mission().name();
   active_mission().counters(t.mission_counters);
   t.mapping = mapping.telemetry();
+  t.localisation = localisation.telemetry();
   t.runner = runner.telemetry();
   t.watch = watch.telemetry();
   t.odometry = odometry.telemetry();

@@ -8,6 +8,7 @@
 #include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
 #include "firmware/app/LineBus.hpp"
+#include "firmware/app/Localisation.hpp"
 #include "firmware/app/Mapping.hpp"
 #include "firmware/app/StatusReporter.hpp"
 #include "firmware/control/MotionOutput.hpp"
@@ -37,6 +38,7 @@ struct FirmwareTelemetry {
   LinePerceptionTelemetry perception;
   ObstacleSensingTelemetry obstacles;
   MappingTelemetry mapping;
+  LocalisationTelemetry localisation;
   Pose2 odom;
 };
 
@@ -46,9 +48,9 @@ struct FirmwareTelemetry {
 // on the last tick of its period.
 struct TaskRates {
   double control_hz = 0.0, camera_hz = 0.0, lidar_hz = 0.0;  // [Hz]
-  double mapping_hz = 0.0;  // every tick when a costmap is built, else 0 (no task) [Hz]
-  double telemetry_hz = 10.0;                                // [Hz]
-  std::uint32_t scan_offset = 0, telemetry_offset = 0;       // [ticks]
+  double mapping_hz = 0.0;     // every tick when a costmap is built, else 0 (no task) [Hz]
+  double telemetry_hz = 10.0;  // [Hz]
+  std::uint32_t scan_offset = 0, telemetry_offset = 0;  // [ticks]
 };
 TaskRates task_rates(const FirmwareConfig& c);
 
@@ -79,6 +81,7 @@ class LineFirmware {
   Controller controller;  // the schedule and the fault latch (the FaultSink of the others)
   SensorWatch watch;
   WheelOdometry odometry;
+  Localisation localisation;  // the pose in the map frame (odometry without a map)
   LinePerception perception;
   ObstacleSensing obstacle_sensing;
   Mapping mapping;  // the costmap (a CostmapView for the missions)

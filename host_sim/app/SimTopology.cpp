@@ -40,6 +40,8 @@ fw::Status declare_tasks(fw::LineFirmware& f) {
   const TaskSpec table[] = {
       TaskSpec::bind<&fw::SensorWatch::run>("health", r.control_hz, 0, us(20), &f.watch),
       TaskSpec::bind<&fw::WheelOdometry::run>("odometry", r.control_hz, 0, us(20), &f.odometry),
+      TaskSpec::bind<&fw::Localisation::run>("localisation", r.control_hz, 0, us(250),
+                                             &f.localisation),
       TaskSpec::bind<&fw::LinePerception::run>("perception", r.camera_hz, 0, us(400),
                                                &f.perception),
       TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
