@@ -5,8 +5,8 @@
 #include <cstdio>
 
 #include "firmware/app/EventFormat.hpp"
-#include "host_sim/app/CostmapOutputs.hpp"
 #include "host_sim/alloc/AllocCounter.hpp"
+#include "host_sim/app/CostmapOutputs.hpp"
 
 namespace carril::sim {
 
@@ -80,7 +80,10 @@ void SimRun::publish_sensors(hal::TimeNs t) {
   imu.pitch_rad = float(att.pitch_rad);
   topo_.imu.publish(imu);
   for (int i = 0; i < w.wheel_count(); ++i) {
-    topo_.drives.set_feedback(i, t, w.wheel_speed(i), w.wheel_position(i));
+    float radps = 0.0F;
+    double pos = 0.0;
+    topo_.encoders.read(i, t, w.wheel_speed(i), w.wheel_position(i), radps, pos);
+    topo_.drives.set_feedback(i, t, radps, pos);
   }
 }
 
@@ -88,6 +91,12 @@ bool SimRun::step() {
   if (finished()) return false;
   const hal::TimeNs t = hal::TimeNs(tick_) * period_ns_;
   topo_.clock.set_now_ns(t);
+  const std::vector<KidnapSpec>& kidnaps = scenario_.localisation.kidnaps;
+  if (next_kidnap_ < kidnaps.size() && sim_time_s() >= kidnaps[next_kidnap_].t_s - 1e-9) {
+    topo_.world.teleport(kidnaps[next_kidnap_].to);
+    localisation_.kidnap(sim_time_s());
+    ++next_kidnap_;
+  }
   publish_sensors(t);
 
   // The firmware's tick: nothing in here may touch the heap.
@@ -120,6 +129,11 @@ bool SimRun::step() {
   s.in_end_state = !faulted && (ms.status == fw::MissionStatus::Finishing ||
                                 ms.status == fw::MissionStatus::Done);
   const double ct = metrics_.add(s);
+  if (fw.config().localisation.enabled) {
+    const fw::Pose2 est = fw.bus.pose.get().pose;
+    localisation_.add(s.t_s, std::hypot(est.x - s.pose.x, est.y - s.pose.y),
+                      fw::wrap_angle(est.yaw - s.pose.yaw_rad));
+  }
   rows_.push_back({s.t_s, s.pose.x, s.pose.y, s.pose.yaw_rad, s.vx_mps, s.vy_mps, s.wz_radps,
                    fw.controller.state_name(), ct});
   for (const ContactStart& c : topo_.world.take_new_contacts()) {
@@ -191,6 +205,17 @@ RunSummary SimRun::summary(double wall_time_s) {
   r.laps = metrics_.laps();
   r.cross_track_rms_m = metrics_.cross_track_rms_m();
   r.cross_track_max_m = metrics_.cross_track_max_m();
+  if (!localisation_.empty()) {
+    const LocalisationScore ls = localisation_.score();
+    r.time_to_converge_s = ls.time_to_converge_s;
+    if (ls.converged_ticks > 0) {
+      r.localisation_rmse_m = ls.rmse_m;
+      r.localisation_max_error_m = ls.max_error_m;
+      r.yaw_rmse_deg = ls.yaw_rmse_deg;
+    }
+    r.relocalised_after_kidnaps_s = ls.relocalised_after_s;
+    if (!ls.relocalised_after_s.empty()) r.relocalised_after_kidnap_s = ls.relocalised_after_s[0];
+  }
   r.mission = all.mission;
   for (const fw::MissionCounter& c : all.mission_counters) {
     r.mission_counters.emplace_back(c.name, long(c.value));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host_sim/app/SimTopology.hpp"
+#include "host_sim/metrics/LocalisationMetrics.hpp"
 #include "host_sim/metrics/RunMetrics.hpp"
 #include "host_sim/output/RunOutputs.hpp"
 #include "host_sim/scenario/Scenario.hpp"
@@ -49,6 +50,8 @@ class SimRun {
   const Scenario& scenario_;
   SimTopology topo_;
   RunMetrics metrics_;
+  LocalisationMetrics localisation_;
+  std::size_t next_kidnap_ = 0;
   double period_s_;
   hal::TimeNs period_ns_, cam_period_ns_, scan_period_ns_;
   hal::TimeNs next_cam_ns_ = 0, next_scan_ns_ = 0, next_cloud_ns_ = 0;

@@ -90,6 +90,7 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       world(s),
       camera_renderer(s, seed),
       lidar(s.robot.lidar, seed),
+      encoders(s.odometry, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu, &cloud},
       config(checked(firmware_config(s), tweak, s)),

@@ -14,11 +14,12 @@
 #include "firmware/core/SlowRateGroup.hpp"
 #include "hal/Devices.hpp"
 #include "hal/sim/SimDevices.hpp"
+#include "hal/sim/SimPointCloud.hpp"
 #include "host_sim/scenario/Scenario.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
-#include "hal/sim/SimPointCloud.hpp"
 #include "host_sim/sensors/Lidar3dSim.hpp"
 #include "host_sim/sensors/LidarSim.hpp"
+#include "host_sim/sensors/WheelEncoderSim.hpp"
 #include "host_sim/world/SimWorld.hpp"
 
 namespace carril::sim {
@@ -50,6 +51,7 @@ struct SimTopology {
   SimWorld world;
   CameraRenderer camera_renderer;
   LidarSim lidar;
+  WheelEncoderSim encoders;             // the wheel readings, with the scenario's odometry drift
   std::unique_ptr<Lidar3dSim> lidar3d;  // only when the firmware maps terrain with it
   // The HAL backends the firmware sees (filled by the simulator in lockstep).
   hal::SimClock clock;

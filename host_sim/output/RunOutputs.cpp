@@ -127,6 +127,19 @@ std::string summary_to_json(const RunSummary& s) {
   w.num("goal_yaw_error_deg", s.goal_yaw_error_deg);
   w.integer("replans", s.replans);
   w.integer("cells_checked", s.cells_checked);
+  w.num("localisation_rmse_m", s.localisation_rmse_m);
+  w.num("localisation_max_error_m", s.localisation_max_error_m);
+  w.num("yaw_rmse_deg", s.yaw_rmse_deg);
+  w.num("time_to_converge_s", s.time_to_converge_s);
+  w.num("relocalised_after_kidnap_s", s.relocalised_after_kidnap_s);
+  {
+    std::string list = "[";
+    for (std::size_t i = 0; i < s.relocalised_after_kidnaps_s.size(); ++i) {
+      if (i > 0) list += ", ";
+      list += json::number(s.relocalised_after_kidnaps_s[i]);
+    }
+    w.raw("relocalised_after_kidnaps_s", list + "]");
+  }
   {
     json::ObjectWriter tasks;
     for (const RunSummary::TaskTime& t : s.tasks) {
@@ -168,9 +181,9 @@ namespace fs = std::filesystem;
 constexpr std::array<const char*, 4> kOutputFiles = {"trajectory.csv", "trajectory.png",
                                                      "velocities.png", "summary.json"};
 // What a run with a costmap adds (RunExtraFile names must be among these).
-constexpr std::array<const char*, 6> kExtraOutputFiles = {
-    "costmap.png", "costmap.pgm", "costmap.yaml", "traversability.png", "elevation.cmap",
-    "obstacles.png"};
+constexpr std::array<const char*, 6> kExtraOutputFiles = {"costmap.png",    "costmap.pgm",
+                                                          "costmap.yaml",   "traversability.png",
+                                                          "elevation.cmap", "obstacles.png"};
 
 std::string g_fault;  // set_output_fault_for_test
 

@@ -64,6 +64,13 @@ struct RunSummary {
   int cells_checked = 0;  // expect.cells entries checked against the costmap
   // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
   int falls = 0;
+  // Localisation on a map (null without one): errors of the firmware's pose from the true pose
+  // after it converged (within 0.2 m and 5 deg for good), when it converged, and per kidnap how
+  // long until it was back within those bounds (null: never).
+  std::optional<double> localisation_rmse_m, localisation_max_error_m, yaw_rmse_deg;
+  std::optional<double> time_to_converge_s;
+  std::optional<double> relocalised_after_kidnap_s;                // the first kidnap's
+  std::vector<std::optional<double>> relocalised_after_kidnaps_s;  // every kidnap's
   // Each firmware task's compute time on this host (shared, noisy: figures, not goals).
   struct TaskTime {
     std::string name;

@@ -88,10 +88,10 @@ struct TerrainSpec {
 enum class CellLabel { Free, Passable, Lethal, Unknown };
 enum class CellLayer { Master, Traversability, Obstacle };
 struct CellExpect {
-  Vec2 at;                             // world frame [m]
-  CellLabel label = CellLabel::Free;   // free (= passable): cost 0..252; lethal: 254; unknown: 255
+  Vec2 at;                            // world frame [m]
+  CellLabel label = CellLabel::Free;  // free (= passable): cost 0..252; lethal: 254; unknown: 255
   CellLayer layer = CellLayer::Traversability;
-  std::string what;                    // what the cell is, for the message (e.g. "cube face")
+  std::string what;  // what the cell is, for the message (e.g. "cube face")
 };
 
 struct ExpectSpec {
@@ -115,6 +115,30 @@ struct ExpectSpec {
   }
 };
 
+// The robot teleported during the run (a kidnap): at t_s it is moved to `to` (world frame).
+struct KidnapSpec {
+  double t_s = 0.0;  // [s]
+  Pose2 to;
+};
+
+// On a scenario with a map: what the firmware is told about where it starts, and the kidnaps.
+struct LocalisationSpec {
+  std::optional<Pose2> initial_pose;  // the pose the firmware is given; default the true start
+  bool global = false;                // it is given none: global localisation
+  std::vector<KidnapSpec> kidnaps;
+};
+
+// Odometry drift: what the wheel encoders tell the firmware differs from how the body moved.
+struct OdometryErrorSpec {
+  // The firmware's wheel radius is off by this fraction (+0.02: it thinks the wheels 2 % larger,
+  // so every distance reads 2 % long).
+  double wheel_radius_error = 0.0;
+  // Wheel slip: each wheel's reported speed is off by a Gaussian fraction of this standard
+  // deviation, drawn afresh every 0.1 s per wheel (the heading drifts as a random walk).
+  double slip = 0.0;
+  bool any() const { return wheel_radius_error != 0.0 || slip != 0.0; }
+};
+
 struct Scenario {
   std::string source_path;  // file it was read from
   std::string name;
@@ -129,6 +153,8 @@ struct Scenario {
   std::vector<ObstacleSpec> obstacles;
   std::vector<WallSpec> walls;
   std::vector<TerrainSpec> terrain;
+  LocalisationSpec localisation;
+  OdometryErrorSpec odometry;
   ExpectSpec expect;
 };
 

@@ -27,7 +27,7 @@ using strict::Range;
 // geometry, rendering or physics, no Box2D assertion). docs/scenario-format.md lists them all.
 const Range kCoord = Range::closed(-1.0e4, 1.0e4);  // world coordinates [m]
 const Range kYawDeg = Range::closed(-360.0, 360.0);
-const Range kSize = Range::closed(0.01, 100.0);  // obstacle and terrain sizes [m]
+const Range kSize = Range::closed(0.01, 100.0);           // obstacle and terrain sizes [m]
 const Range kObstacleHeight = Range::closed(0.01, 10.0);  // [m]
 const Range kRampAngleDeg = Range::closed(0.5, 30.0);
 const Range kRampTop = Range::closed(0.0, 100.0);      // [m]
@@ -112,7 +112,8 @@ void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot)
   }
   if (auto n = m.get("lidar")) loader::parse_lidar(*n, robot.lidar, false);
   if (auto n = m.get("limits")) loader::parse_limits(*n, robot.limits, false);
-  if (auto n = m.get("terrain_limits")) loader::parse_terrain_limits(*n, robot.terrain_limits, false);
+  if (auto n = m.get("terrain_limits"))
+    loader::parse_terrain_limits(*n, robot.terrain_limits, false);
 }
 
 std::vector<Vec2> discretise_arc(Vec2 c, double r, double start_deg, double end_deg) {
@@ -321,6 +322,48 @@ CellExpect parse_cell_expect(const Node& m) {
   return c;
 }
 
+Pose2 parse_pose(const Node& m) {
+  m.expect_map({"x", "y", "yaw_deg"});
+  return {m.at("x").number(kCoord), m.at("y").number(kCoord),
+          deg2rad(m.at("yaw_deg").number(kYawDeg))};
+}
+
+KidnapSpec parse_kidnap(const Node& m) {
+  m.expect_map({"t_s", "x", "y", "yaw_deg"});
+  KidnapSpec k;
+  k.t_s = m.at("t_s").number(Range::closed(0.0, 86400.0));
+  k.to = {m.at("x").number(kCoord), m.at("y").number(kCoord),
+          deg2rad(m.at("yaw_deg").number(kYawDeg))};
+  return k;
+}
+
+LocalisationSpec parse_localisation(const Node& m) {
+  m.expect_map({"initial_pose", "global", "kidnap"});
+  LocalisationSpec l;
+  if (auto n = m.get("initial_pose")) l.initial_pose = parse_pose(*n);
+  if (auto n = m.get("global")) l.global = n->boolean();
+  if (l.global && l.initial_pose) {
+    m.at("global").expected("no initial_pose with global: true", "both");
+  }
+  l.kidnaps = parse_list<KidnapSpec>(m.get("kidnap"), 16, "kidnap", parse_kidnap);
+  for (std::size_t i = 1; i < l.kidnaps.size(); ++i) {
+    if (l.kidnaps[i].t_s <= l.kidnaps[i - 1].t_s) {
+      m.at("kidnap").expected("kidnaps in increasing t_s", "t_s not increasing");
+    }
+  }
+  return l;
+}
+
+OdometryErrorSpec parse_odometry(const Node& m) {
+  m.expect_map({"wheel_radius_error", "slip"});
+  OdometryErrorSpec o;
+  if (auto n = m.get("wheel_radius_error")) {
+    o.wheel_radius_error = n->number(Range::closed(-0.2, 0.2));
+  }
+  if (auto n = m.get("slip")) o.slip = n->number(Range::closed(0.0, 0.5));
+  return o;
+}
+
 ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
@@ -353,7 +396,8 @@ ExpectSpec parse_expect(const Node& m) {
 
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
   root.expect_map({"name", "description", "duration_s", "seed", "floor", "robot", "mission",
-                   "lines", "marks", "obstacles", "walls", "terrain", "expect"});
+                   "lines", "marks", "obstacles", "walls", "terrain", "localisation", "odometry",
+                   "expect"});
   Scenario s;
   s.source_path = path;
   s.name = strict::parse_name(root.at("name"));
@@ -378,6 +422,8 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
                                  [&](const Node& n) { return parse_wall(n, wall_budget); });
   s.terrain =
       parse_list<TerrainSpec>(root.get("terrain"), kMaxTerrain, "terrain items", parse_terrain);
+  if (auto n = root.get("localisation")) s.localisation = parse_localisation(*n);
+  if (auto n = root.get("odometry")) s.odometry = parse_odometry(*n);
   if (auto n = root.get("expect")) s.expect = parse_expect(*n);
 
   // follow_line needs tape of the mission's colour to follow.

@@ -89,6 +89,13 @@ void SimWorld::set_wheel_targets(const float* radps) {
   for (int i = 0; i < kin_.wheel_count(); ++i) target_[std::size_t(i)] = radps[i];
 }
 
+void SimWorld::teleport(const Pose2& p) {
+  robot_->SetTransform(b2Vec2(float(p.x), float(p.y)), float(p.yaw_rad));
+  robot_->SetLinearVelocity(b2Vec2(0.0F, 0.0F));
+  robot_->SetAngularVelocity(0.0F);
+  terrain_->move_to(pose());
+}
+
 void SimWorld::step(double dt) {
   const LimitsSpec& lim = scenario_.robot.limits;
   // Wheel motors: follow the target within the acceleration and speed limits.

@@ -34,6 +34,8 @@ class SimWorld {
   void step(double dt_s);
 
   Pose2 pose() const;
+  // Moves the robot to p at rest (a kidnap: lifted and set down; the wheels do not turn).
+  void teleport(const Pose2& p);
   // True body-frame velocity from the physics (differs from the wheels' when blocked) [m/s, rad/s].
   void body_velocity(double& vx, double& vy, double& wz) const;
   int wheel_count() const { return kin_.wheel_count(); }
