@@ -18,7 +18,7 @@ Status validate_goal(std::size_t k, const Pose2& g) {
     const char* unit;
   } checks[] = {{"x", g.x, 1000.0, "m"}, {"y", g.y, 1000.0, "m"}, {"yaw", g.yaw, 2.0 * kPi, "rad"}};
   for (const auto& ch : checks) {
-    if (!(std::fabs(ch.v) <= ch.limit)) {
+    if (!std::islessequal(std::fabs(ch.v), ch.limit)) {
       return Status::error("goto.goals[%zu].%s: %g %s, expected %g to %g %s", k, ch.field, ch.v,
                            ch.unit, -ch.limit, ch.limit, ch.unit);
     }
