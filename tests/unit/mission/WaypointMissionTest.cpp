@@ -250,6 +250,7 @@ TEST(WaypointMissionTest, TargetInAnUnseenObstacleEndsStuckWithinTheTimeout) {
   EXPECT_STREQ(c.mission->state().phase, "stuck");
   EXPECT_EQ(c.mission->targets_reached(), 1u);
   EXPECT_FALSE(c.on_lethal);
+  EXPECT_GT(c.min_clearance, 0.2);
   EXPECT_GE(c.mission->emergency_stops(), 1u);
   EXPECT_LT(c.t_s(), 12.0 + 10.0 + 5.0);  // the first target (~12 s), the approach, stuck_time
 }
