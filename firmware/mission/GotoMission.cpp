@@ -8,6 +8,26 @@
 
 namespace carril::fw {
 
+namespace {
+
+// The same ranges as the single goal's, naming the goal's index.
+Status validate_goal(std::size_t k, const Pose2& g) {
+  const struct {
+    const char* field;
+    double v, limit;
+    const char* unit;
+  } checks[] = {{"x", g.x, 1000.0, "m"}, {"y", g.y, 1000.0, "m"}, {"yaw", g.yaw, 2.0 * kPi, "rad"}};
+  for (const auto& ch : checks) {
+    if (!std::islessequal(std::fabs(ch.v), ch.limit)) {
+      return Status::error("goto.goals[%zu].%s: %g %s, expected %g to %g %s", k, ch.field, ch.v,
+                           ch.unit, -ch.limit, ch.limit, ch.unit);
+    }
+  }
+  return Status::ok();
+}
+
+}  // namespace
+
 Status GotoConfig::validate() const {
   Checks c("goto");
   c.range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
@@ -29,6 +49,7 @@ Status GotoConfig::validate() const {
       .nested(pure_pursuit.validate())
       .nested(vff.validate())
       .nested(tracker.validate());
+  for (std::size_t k = 0; k < goals.size(); ++k) c.nested(validate_goal(k, goals[k]));
   return c.result();
 }
 
@@ -62,7 +83,8 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
       pure_pursuit_(cfg.pure_pursuit),
       vff_(cfg.vff),
       odom_(odom),
-      costmap_(costmap) {
+      costmap_(costmap),
+      goal_(cfg.goal_at(0)) {
   const RollingGrid<std::uint8_t>& m = costmap.master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
   if (planner_ready_) plan_costs_ = std::make_unique<std::uint8_t[]>(std::size_t(m.nx()) * m.ny());
@@ -88,6 +110,9 @@ void GotoMission::enter(const MissionContext&) {
   cells_.clear();
   plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = 0;
   fault_ = Fault::None;
+  goal_index_ = 0;
+  goal_ = cfg_.goal_at(0);
+  goals_reached_ = 0;
 }
 
 MissionState GotoMission::state() const {
@@ -106,7 +131,8 @@ MissionState GotoMission::state() const {
       break;
     case State::Approach:
     case State::Align:
-      s.status = MissionStatus::Finishing;
+      // Onto the last goal; an intermediate one is still the task under way.
+      s.status = last_goal() ? MissionStatus::Finishing : MissionStatus::Active;
       break;
     case State::Done:
       s.status = MissionStatus::Done;
@@ -123,6 +149,7 @@ void GotoMission::counters(MissionCounters& out) const {
   out.push_back({"plans", plans_});
   out.push_back({"replans", replans_});
   out.push_back({"emergency_stops", emergency_stops_});
+  out.push_back({"goals_reached", goals_reached_});
 }
 
 MissionOutput GotoMission::fail(Fault f) {
@@ -131,6 +158,19 @@ MissionOutput GotoMission::fail(Fault f) {
   MissionOutput out;
   out.fault = f;
   return out;
+}
+
+// Goal k is reached: DONE after the last one, else a plan to goal k + 1 from here.
+MissionOutput GotoMission::goal_reached(const Pose2& pose) {
+  ++goals_reached_;
+  if (last_goal()) {
+    go(State::Done, "done");
+    return {};
+  }
+  goal_ = cfg_.goal_at(++goal_index_);
+  stops_in_a_row_ = 0;  // reaching a goal is progress
+  go(State::Plan, "plan");
+  return plan_step(pose);
 }
 
 MissionOutput GotoMission::update(const MissionContext& ctx) {
@@ -152,18 +192,21 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
     case State::Approach: {
       bool arrived = false;
       MissionOutput out;
-      out.motion.twist = tracker_.approach(pose, Vec2(cfg_.goal.x, cfg_.goal.y), cfg_.speed_mps,
-                                           1.5, cfg_.goal_tolerance_m, arrived);
-      if (arrived) go(State::Align, "align");
-      return out;
+      out.motion.twist =
+          tracker_.approach(pose, goal_xy(), cfg_.speed_mps, 1.5, cfg_.goal_tolerance_m, arrived);
+      if (!arrived) return out;
+      if (last_goal() || cfg_.align_every_goal) {
+        go(State::Align, "align");
+        return out;
+      }
+      return goal_reached(pose);
     }
     case State::Align: {
       MissionOutput out;
-      if (std::fabs(wrap_angle(cfg_.goal.yaw - pose.yaw)) <= cfg_.yaw_tolerance_rad) {
-        go(State::Done, "done");
-        return out;
+      if (std::fabs(wrap_angle(goal_.yaw - pose.yaw)) <= cfg_.yaw_tolerance_rad) {
+        return goal_reached(pose);
       }
-      out.motion.twist = tracker_.turn_to(pose, cfg_.goal.yaw);
+      out.motion.twist = tracker_.turn_to(pose, goal_.yaw);
       return out;
     }
     case State::Done:
@@ -220,7 +263,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
   if (planner_.status() != WavefrontStatus::Running) {
     // A new plan on the current costmap.
     int gx = 0, gy = 0;
-    if (!m.world_to_cell(cfg_.goal.x, cfg_.goal.y, gx, gy)) return fail(Fault::GoalInvalid);
+    if (!m.world_to_cell(goal_.x, goal_.y, gx, gy)) return fail(Fault::GoalInvalid);
     if (goal_in_obstacle(gx, gy)) return fail(Fault::GoalInvalid);
     m.copy_to(plan_costs_.get());
     const int r = static_cast<int>(std::ceil(cfg_.goal_clear_m / m.resolution()));
@@ -229,9 +272,11 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
       for (int dx = -r; dx <= r; ++dx) {
         const int x = lgx + dx, y = lgy + dy;
         if (x < 0 || y < 0 || x >= m.nx() || y >= m.ny() || dx * dx + dy * dy > r * r) continue;
-        if (costmap_.obstacles().at(m.origin_cx() + x, m.origin_cy() + y) == cost::kLethal) {
-          continue;
-        }
+        // The lidar layer may be a smaller window than the master (a fixed map of a building
+        // round a rolling lidar window): a cell outside it has not been seen.
+        const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
+        const int cx = m.origin_cx() + x, cy = m.origin_cy() + y;
+        if (o.contains(cx, cy) && o.at(cx, cy) == cost::kLethal) continue;
         std::uint8_t& c = plan_costs_[std::size_t(y) * std::size_t(m.nx()) + std::size_t(x)];
         if (!cost::passable(c)) c = cost::kMaxGraded;
       }
@@ -257,7 +302,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
   const double ox = plan_cx0_ * m.resolution(), oy = plan_cy0_ * m.resolution();
   cells_to_waypoints(cells_.begin(), cells_.size(), ox, oy, m.resolution(), waypoints_);
   // The goal itself, not its cell's centre, ends the path.
-  if (!waypoints_.empty()) waypoints_.back() = Vec2(cfg_.goal.x, cfg_.goal.y);
+  if (!waypoints_.empty()) waypoints_.back() = goal_xy();
   progress_ = 0;
   pure_pursuit_.reset();
   vff_.reset();
@@ -281,7 +326,7 @@ bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
       int cx = 0, cy = 0;
       if (!m.world_to_cell(p.x(), p.y(), cx, cy)) continue;
       const std::uint8_t c = m.at(cx, cy);
-      const bool near_goal = (p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m;
+      const bool near_goal = (p - goal_xy()).norm() <= cfg_.goal_clear_m;
       if (!near_goal && (c == cost::kLethal || c == cost::kInscribed)) {
         // The robot's own inflated cell does not count (it may be standing in inflation).
         if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) return true;
@@ -306,7 +351,7 @@ bool GotoMission::lethal_at_edge(const Pose2& pose, double x_body) const {
   for (int k = 0; k <= n; ++k) {
     const double y = -footprint_.half_width_m + 2.0 * footprint_.half_width_m * k / std::max(n, 1);
     const Vec2 p = to_world(pose, Vec2(x_body, y));
-    if ((p - Vec2(cfg_.goal.x, cfg_.goal.y)).norm() <= cfg_.goal_clear_m) continue;
+    if ((p - goal_xy()).norm() <= cfg_.goal_clear_m) continue;
     int cx = 0, cy = 0;
     if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;
   }
@@ -341,8 +386,7 @@ MissionOutput GotoMission::backup(const Pose2& pose) {
 }
 
 MissionOutput GotoMission::follow(const Pose2& pose) {
-  const Vec2 goal(cfg_.goal.x, cfg_.goal.y);
-  if ((goal - Vec2(pose.x, pose.y)).norm() <= cfg_.approach_m) {
+  if ((goal_xy() - Vec2(pose.x, pose.y)).norm() <= cfg_.approach_m) {
     go(State::Approach, "approach");
     return {};
   }

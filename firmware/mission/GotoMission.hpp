@@ -1,5 +1,6 @@
 #pragma once
-// The goto mission: drive to a goal pose on the costmap the robot builds while it drives. Plans
+// The goto mission: drive to a goal pose, or through a sequence of goal poses in order (the
+// taxi), on the costmap the robot builds while it drives. Plans
 // with the wavefront planner (spread over ticks, a budget per tick), follows the path with the
 // selected local follower (pure pursuit or VFF), replans when the costmap puts an obstacle on
 // the path ahead, creeps onto the goal and turns to its heading. It stops and reports when no
@@ -8,6 +9,8 @@
 //
 //   WAIT --drives ready, costmap updated--> PLAN --path--> FOLLOW --end of path--> APPROACH
 //   APPROACH --within goal_tolerance_m--> ALIGN --heading within yaw_tolerance--> DONE
+//   ALIGN (or APPROACH when intermediate goals are not aligned) --goal k reached, more to come-->
+//   PLAN to goal k + 1
 //   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
 //   FOLLOW --a lethal cell just ahead, the path straight on--> BACKUP --backed off--> PLAN
 //   (the path turning: FOLLOW turns in place until the front is clear)
@@ -17,12 +20,18 @@
 // BACKUP is the recovery of a robot that has come too close: replanning from where it stands
 // gives the same path into the same cell again (the start may lie in inflation), so it first
 // reverses backup_m (no further than the clear ground behind it), then plans.
+//
+// Each goal is checked when its plan starts: outside the costmap or inside an obstacle is
+// goal_invalid then (the goals before it have been reached). Nothing assumes the costmap window
+// follows the robot: a fixed window over a whole mapped building works the same.
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
 #include "firmware/control/PathTracker.hpp"
 #include "firmware/control/PurePursuitFollower.hpp"
 #include "firmware/control/VffFollower.hpp"
+#include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
@@ -36,7 +45,14 @@ namespace carril::fw {
 enum class GotoFollower : std::uint8_t { PurePursuit, Vff };
 
 struct GotoConfig {
-  Pose2 goal;  // goal pose, odometry frame [m, m, rad]
+  static constexpr std::size_t kMaxGoals = 16;
+
+  Pose2 goal;  // the goal pose when `goals` is empty, odometry frame [m, m, rad]
+  // Goal poses driven to in order, odometry frame [m, m, rad]; when not empty, `goal` is unused.
+  StaticVector<Pose2, kMaxGoals> goals;
+  // Turn to every goal's heading; false: only the last one's (an intermediate goal is reached
+  // within goal_tolerance_m, its heading ignored).
+  bool align_every_goal = true;
   double speed_mps = 0.4;
   GotoFollower follower = GotoFollower::PurePursuit;
   WavefrontConfig planner;
@@ -63,6 +79,10 @@ struct GotoConfig {
   double goal_clear_m = 0.3;
 
   Status validate() const;
+  // Goals in the sequence: goals.size(), or 1 (the single goal).
+  std::size_t goal_count() const { return goals.empty() ? 1 : goals.size(); }
+  // Goal k of the sequence (k < goal_count()).
+  const Pose2& goal_at(std::size_t k) const { return goals.empty() ? goal : goals[k]; }
 };
 
 class GotoMission final : public Mission {
@@ -85,6 +105,12 @@ class GotoMission final : public Mission {
   enum class State : std::uint8_t { Wait, Plan, Follow, Backup, Approach, Align, Done, Failed };
   State current() const { return state_; }
   std::uint32_t replans() const { return replans_; }
+  // Goals reached so far (ALIGN done, or APPROACH done for an unaligned intermediate goal).
+  std::uint32_t goals_reached() const { return goals_reached_; }
+  // Index of the goal being driven to, in goal_at() order.
+  std::size_t goal_index() const { return goal_index_; }
+  // The goal being driven to [m, m, rad].
+  const Pose2& goal() const { return goal_; }
   // The path being followed, odometry frame (for plots and tests).
   const StaticVector<Vec2, kMaxWaypoints>& path() const { return waypoints_; }
   const WavefrontPlanner& planner() const { return planner_; }
@@ -101,6 +127,9 @@ class GotoMission final : public Mission {
   bool start_cell(const Pose2& pose, GridCell& out) const;
   bool goal_in_obstacle(int gx, int gy) const;
   MissionOutput fail(Fault f);
+  MissionOutput goal_reached(const Pose2& pose);
+  bool last_goal() const { return goal_index_ + 1 >= cfg_.goal_count(); }
+  Vec2 goal_xy() const { return {goal_.x, goal_.y}; }
 
   GotoConfig cfg_;
   Footprint footprint_;
@@ -125,6 +154,9 @@ class GotoMission final : public Mission {
   std::uint32_t stops_in_a_row_ = 0;
   Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
   Fault fault_ = Fault::None;
+  std::size_t goal_index_ = 0;
+  Pose2 goal_;
+  std::uint32_t goals_reached_ = 0;
 };
 
 const char* goto_state_name(GotoMission::State s);
