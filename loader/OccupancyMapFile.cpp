@@ -141,8 +141,8 @@ std::array<std::uint8_t, 256> trinary_table(std::uint32_t maxval, bool negate, d
                                             double free) {
   std::array<std::uint8_t, 256> t{};
   for (std::uint32_t v = 0; v <= maxval; ++v) {
-    const double shade = static_cast<double>(v) / static_cast<double>(maxval);
-    const double p = negate ? shade : 1.0 - shade;
+    // An exact integer numerator, as ROS 1's map_server: (255 - v) / 255.0.
+    const double p = static_cast<double>(negate ? v : maxval - v) / static_cast<double>(maxval);
     t[v] = p > occupied ? cost::kLethal : p < free ? cost::kFree : cost::kUnknown;
   }
   return t;
