@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "loader/MissionSpec.hpp"
+#include "loader/OccupancyMapFile.hpp"
 #include "loader/RobotSpec.hpp"
 
 namespace carril::sim {
@@ -88,10 +89,10 @@ struct TerrainSpec {
 enum class CellLabel { Free, Passable, Lethal, Unknown };
 enum class CellLayer { Master, Traversability, Obstacle };
 struct CellExpect {
-  Vec2 at;                             // world frame [m]
-  CellLabel label = CellLabel::Free;   // free (= passable): cost 0..252; lethal: 254; unknown: 255
+  Vec2 at;                            // world frame [m]
+  CellLabel label = CellLabel::Free;  // free (= passable): cost 0..252; lethal: 254; unknown: 255
   CellLayer layer = CellLayer::Traversability;
-  std::string what;                    // what the cell is, for the message (e.g. "cube face")
+  std::string what;  // what the cell is, for the message (e.g. "cube face")
 };
 
 struct ExpectSpec {
@@ -129,6 +130,11 @@ struct Scenario {
   std::vector<ObstacleSpec> obstacles;
   std::vector<WallSpec> walls;
   std::vector<TerrainSpec> terrain;
+  // Occupancy map (`map:`, docs/map-formats.md): its occupied cells are walls in the simulator,
+  // and the firmware gets it as its static map. map_path is the file as resolved (relative to the
+  // scenario file); empty, and map nullopt, without one.
+  std::string map_path;
+  std::optional<loader::OccupancyMapData> map;
   ExpectSpec expect;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <numbers>
 
 #include "host_sim/scenario/ScenarioChecks.hpp"
@@ -27,7 +28,7 @@ using strict::Range;
 // geometry, rendering or physics, no Box2D assertion). docs/scenario-format.md lists them all.
 const Range kCoord = Range::closed(-1.0e4, 1.0e4);  // world coordinates [m]
 const Range kYawDeg = Range::closed(-360.0, 360.0);
-const Range kSize = Range::closed(0.01, 100.0);  // obstacle and terrain sizes [m]
+const Range kSize = Range::closed(0.01, 100.0);           // obstacle and terrain sizes [m]
 const Range kObstacleHeight = Range::closed(0.01, 10.0);  // [m]
 const Range kRampAngleDeg = Range::closed(0.5, 30.0);
 const Range kRampTop = Range::closed(0.0, 100.0);      // [m]
@@ -52,6 +53,8 @@ constexpr std::size_t kMaxWalls = 256;
 constexpr std::size_t kMaxWallPoints = 4096;  // all walls
 constexpr std::size_t kMaxTerrain = 256;
 constexpr std::size_t kMaxCellExpects = 256;
+// Cells of a `map:` the simulator builds walls from (1000 x 1000: 50 x 50 m at 5 cm).
+constexpr std::size_t kMaxMapCells = 1'000'000;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -112,7 +115,8 @@ void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot)
   }
   if (auto n = m.get("lidar")) loader::parse_lidar(*n, robot.lidar, false);
   if (auto n = m.get("limits")) loader::parse_limits(*n, robot.limits, false);
-  if (auto n = m.get("terrain_limits")) loader::parse_terrain_limits(*n, robot.terrain_limits, false);
+  if (auto n = m.get("terrain_limits"))
+    loader::parse_terrain_limits(*n, robot.terrain_limits, false);
 }
 
 std::vector<Vec2> discretise_arc(Vec2 c, double r, double start_deg, double end_deg) {
@@ -351,9 +355,20 @@ ExpectSpec parse_expect(const Node& m) {
   return e;
 }
 
+// `map: FILE.yaml`, relative to the scenario file: the map loader's message on `map` when it
+// cannot be loaded.
+void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
+  const std::string file = n.string();
+  if (file.empty()) n.expected("a map file (ROS map_server YAML)", "an empty string");
+  s.map_path = (std::filesystem::path(scenario_path).parent_path() / file).string();
+  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, kMaxMapCells);
+  if (!m.ok()) n.fail("cannot load the map: " + m.error);
+  s.map = std::move(m.map);
+}
+
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
   root.expect_map({"name", "description", "duration_s", "seed", "floor", "robot", "mission",
-                   "lines", "marks", "obstacles", "walls", "terrain", "expect"});
+                   "lines", "marks", "obstacles", "walls", "terrain", "map", "expect"});
   Scenario s;
   s.source_path = path;
   s.name = strict::parse_name(root.at("name"));
@@ -378,6 +393,7 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
                                  [&](const Node& n) { return parse_wall(n, wall_budget); });
   s.terrain =
       parse_list<TerrainSpec>(root.get("terrain"), kMaxTerrain, "terrain items", parse_terrain);
+  if (auto n = root.get("map")) parse_map(*n, path, s);
   if (auto n = root.get("expect")) s.expect = parse_expect(*n);
 
   // follow_line needs tape of the mission's colour to follow.
