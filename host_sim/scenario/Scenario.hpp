@@ -3,13 +3,19 @@
 // Units: metres, radians (angles in files are degrees; the loader converts), seconds.
 // World frame: x forward at yaw 0, y left, yaw counter-clockwise.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "loader/MissionSpec.hpp"
-#include "loader/OccupancyMapFile.hpp"
 #include "loader/RobotSpec.hpp"
+
+namespace carril::loader {
+// loader/OccupancyMapFile.hpp; declared only, so that this header needs no firmware (Eigen)
+// headers.
+struct OccupancyMapData;
+}  // namespace carril::loader
 
 namespace carril::sim {
 
@@ -132,9 +138,10 @@ struct Scenario {
   std::vector<TerrainSpec> terrain;
   // Occupancy map (`map:`, docs/map-formats.md): its occupied cells are walls in the simulator,
   // and the firmware gets it as its static map. map_path is the file as resolved (relative to the
-  // scenario file); empty, and map nullopt, without one.
+  // scenario file); empty, and map nullptr, without one. Shared: copies of a scenario do not copy
+  // the cells.
   std::string map_path;
-  std::optional<loader::OccupancyMapData> map;
+  std::shared_ptr<const loader::OccupancyMapData> map;
   ExpectSpec expect;
 };
 

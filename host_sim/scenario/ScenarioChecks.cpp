@@ -7,6 +7,7 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "loader/OccupancyMapFile.hpp"
 
 namespace carril::sim {
 

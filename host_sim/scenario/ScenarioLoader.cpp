@@ -8,6 +8,7 @@
 
 #include "host_sim/scenario/ScenarioChecks.hpp"
 #include "loader/MissionSections.hpp"
+#include "loader/OccupancyMapFile.hpp"
 #include "loader/RobotSections.hpp"
 #include "loader/StrictYaml.hpp"
 
@@ -363,7 +364,7 @@ void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
   s.map_path = (std::filesystem::path(scenario_path).parent_path() / file).string();
   loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, kMaxMapCells);
   if (!m.ok()) n.fail("cannot load the map: " + m.error);
-  s.map = std::move(m.map);
+  s.map = std::make_shared<const loader::OccupancyMapData>(std::move(m.map));
 }
 
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {

@@ -52,7 +52,7 @@ TEST(ScenarioMap, MapLoadsRelativeToTheScenarioFile) {
   const LoadResult r = load_with_map(dir, kMinimalYaml + "map: maps/room.yaml\n");
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_EQ(r.scenario.map_path, (dir / "maps" / "room.yaml").string());
-  ASSERT_TRUE(r.scenario.map.has_value());
+  ASSERT_NE(r.scenario.map, nullptr);
   EXPECT_EQ(r.scenario.map->info.nx, 40);
   EXPECT_EQ(r.scenario.map->info.ny, 30);
   EXPECT_EQ(r.scenario.map->info.origin_x_m, -2.0);
@@ -60,7 +60,7 @@ TEST(ScenarioMap, MapLoadsRelativeToTheScenarioFile) {
   // Without the key: no map.
   const LoadResult none = load_with_map(dir, kMinimalYaml);
   ASSERT_TRUE(none.ok) << none.error;
-  EXPECT_FALSE(none.scenario.map.has_value());
+  EXPECT_EQ(none.scenario.map, nullptr);
   EXPECT_TRUE(none.scenario.map_path.empty());
 }
 
@@ -70,7 +70,7 @@ TEST(ScenarioMap, ShippedMapFromTheScenariosFolder) {
   const LoadResult r =
       load_scenario_text(kMinimalYaml + "map: maps/house.yaml\n", path, test::robots_dir());
   ASSERT_TRUE(r.ok) << r.error;
-  ASSERT_TRUE(r.scenario.map.has_value());
+  ASSERT_NE(r.scenario.map, nullptr);
   EXPECT_EQ(r.scenario.map->info.nx, 210);
   EXPECT_EQ(r.scenario.map->info.ny, 170);
 }

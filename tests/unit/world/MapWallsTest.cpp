@@ -303,7 +303,7 @@ lines: [{color: white, width_m: 0.05, points: [[-1, 0], [1, 0]]}]
 
 TEST(MapWalls, SimWorldLidarSeesTheMap) {
   const Scenario s = house_scenario();
-  ASSERT_TRUE(s.map.has_value());
+  ASSERT_NE(s.map, nullptr);
   SimWorld world(s);
   LidarSim lidar(s.robot.lidar, 1);
   hal::LaserScan scan;
