@@ -3,12 +3,19 @@
 // Units: metres, radians (angles in files are degrees; the loader converts), seconds.
 // World frame: x forward at yaw 0, y left, yaw counter-clockwise.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "loader/MissionSpec.hpp"
 #include "loader/RobotSpec.hpp"
+
+namespace carril::loader {
+// loader/OccupancyMapFile.hpp; declared only, so that this header needs no firmware (Eigen)
+// headers.
+struct OccupancyMapData;
+}  // namespace carril::loader
 
 namespace carril::sim {
 
@@ -153,6 +160,12 @@ struct Scenario {
   std::vector<ObstacleSpec> obstacles;
   std::vector<WallSpec> walls;
   std::vector<TerrainSpec> terrain;
+  // Occupancy map (`map:`, docs/map-formats.md): its occupied cells are walls in the simulator,
+  // and the firmware gets it as its static map. map_path is the file as resolved (relative to the
+  // scenario file); empty, and map nullptr, without one. Shared: copies of a scenario do not copy
+  // the cells.
+  std::string map_path;
+  std::shared_ptr<const loader::OccupancyMapData> map;
   LocalisationSpec localisation;
   OdometryErrorSpec odometry;
   ExpectSpec expect;

@@ -5,7 +5,9 @@
 #include <numbers>
 #include <string>
 
+#include "firmware/mapping/CostValues.hpp"
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "loader/OccupancyMapFile.hpp"
 
 namespace carril::sim {
 
@@ -44,6 +46,38 @@ bool overlaps(const Obb& a, Vec2 centre, double radius) {
   const double lx = co * dx + si * dy, ly = -si * dx + co * dy;
   const double qx = lx - std::clamp(lx, -a.hx, a.hx), qy = ly - std::clamp(ly, -a.hy, a.hy);
   return std::hypot(qx, qy) < radius;
+}
+
+// The map's occupied cells are walls (SimWorld builds them exactly): the footprint may touch
+// them but not overlap one. Only the cells under the footprint's bounding box are looked at.
+void check_start_clear_of_map(const Obb& robot, const loader::OccupancyMapData& map,
+                              const Node& where, const std::string& what, const std::string& got) {
+  const fw::MapInfo& m = map.info;
+  const double co = std::abs(std::cos(robot.yaw)), si = std::abs(std::sin(robot.yaw));
+  const double ex = co * robot.hx + si * robot.hy, ey = si * robot.hx + co * robot.hy;
+  auto cell = [&](double v, double origin, int n) {
+    return static_cast<int>(std::clamp(std::floor((v - origin) / m.resolution_m), 0.0, n - 1.0));
+  };
+  const int i0 = cell(robot.c.x - ex, m.origin_x_m, m.nx),
+            i1 = cell(robot.c.x + ex, m.origin_x_m, m.nx);
+  const int j0 = cell(robot.c.y - ey, m.origin_y_m, m.ny),
+            j1 = cell(robot.c.y + ey, m.origin_y_m, m.ny);
+  const double h = m.resolution_m / 2;
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      if (map.cells[std::size_t(j) * std::size_t(m.nx) + std::size_t(i)] != fw::cost::kLethal) {
+        continue;
+      }
+      const Vec2 c{m.origin_x_m + (i + 0.5) * m.resolution_m,
+                   m.origin_y_m + (j + 0.5) * m.resolution_m};
+      if (overlaps(robot, Obb{c, 0.0, h, h})) {
+        where.expected(what, got + " (overlaps occupied cell (" + std::to_string(i) + ", " +
+                                 std::to_string(j) + ") at x " + strict::format_number(c.x) +
+                                 ", y " + strict::format_number(c.y) + " of " + map.image_path +
+                                 ")");
+      }
+    }
+  }
 }
 
 std::string rgb_text(Rgb c) {
@@ -91,6 +125,7 @@ void check_start_clear(const Node& root, const Scenario& s) {
       }
     }
   }
+  if (s.map) check_start_clear_of_map(robot, *s.map, where, what + "the map's occupied cells", got);
 }
 
 // The detector must tell the tape and the end mark from the floor, and from each other.

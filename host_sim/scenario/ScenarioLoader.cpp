@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <numbers>
 
 #include "host_sim/scenario/ScenarioChecks.hpp"
 #include "loader/MissionSections.hpp"
+#include "loader/OccupancyMapFile.hpp"
 #include "loader/RobotSections.hpp"
 #include "loader/StrictYaml.hpp"
 
@@ -52,6 +54,8 @@ constexpr std::size_t kMaxWalls = 256;
 constexpr std::size_t kMaxWallPoints = 4096;  // all walls
 constexpr std::size_t kMaxTerrain = 256;
 constexpr std::size_t kMaxCellExpects = 256;
+// Cells of a `map:` the simulator builds walls from (1000 x 1000: 50 x 50 m at 5 cm).
+constexpr std::size_t kMaxMapCells = 1'000'000;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -394,10 +398,21 @@ ExpectSpec parse_expect(const Node& m) {
   return e;
 }
 
+// `map: FILE.yaml`, relative to the scenario file: the map loader's message on `map` when it
+// cannot be loaded.
+void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
+  const std::string file = n.string();
+  if (file.empty()) n.expected("a map file (ROS map_server YAML)", "an empty string");
+  s.map_path = (std::filesystem::path(scenario_path).parent_path() / file).string();
+  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, kMaxMapCells);
+  if (!m.ok()) n.fail("cannot load the map: " + m.error);
+  s.map = std::make_shared<const loader::OccupancyMapData>(std::move(m.map));
+}
+
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
   root.expect_map({"name", "description", "duration_s", "seed", "floor", "robot", "mission",
-                   "lines", "marks", "obstacles", "walls", "terrain", "localisation", "odometry",
-                   "expect"});
+                   "lines", "marks", "obstacles", "walls", "terrain", "map", "localisation",
+                   "odometry", "expect"});
   Scenario s;
   s.source_path = path;
   s.name = strict::parse_name(root.at("name"));
@@ -422,7 +437,11 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
                                  [&](const Node& n) { return parse_wall(n, wall_budget); });
   s.terrain =
       parse_list<TerrainSpec>(root.get("terrain"), kMaxTerrain, "terrain items", parse_terrain);
-  if (auto n = root.get("localisation")) s.localisation = parse_localisation(*n);
+  if (auto n = root.get("map")) parse_map(*n, path, s);
+  if (auto n = root.get("localisation")) {
+    s.localisation = parse_localisation(*n);
+    if (!s.map) n->expected("a map: (localisation runs on a known map)", "no map");
+  }
   if (auto n = root.get("odometry")) s.odometry = parse_odometry(*n);
   if (auto n = root.get("expect")) s.expect = parse_expect(*n);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host_sim/world/MapWalls.hpp"
+
 namespace carril::sim {
 
 // Counts each new contact that involves the robot (Box2D reports a contact once when it begins).
@@ -52,6 +54,8 @@ SimWorld::SimWorld(const Scenario& scenario)
                      len / 2 + w.thickness_m / 2, w.thickness_m / 2);
     }
   }
+  // The map's occupied cells, merged into few rectangles: one static body.
+  if (scenario.map) add_map_walls(*world_, merge_occupied_cells(*scenario.map));
   const RobotSpec& r = scenario.robot;
   b2BodyDef bd;
   bd.type = b2_dynamicBody;
