@@ -119,6 +119,7 @@ void apply_goto(const MissionSpec& mission, fw::FirmwareConfig& c) {
   c.mission = fw::MissionKind::Goto;
   fw::GotoConfig& g = c.goto_mission;
   g.goal = {mission.goal_x_m, mission.goal_y_m, mission.goal_yaw_deg * kDeg};
+  for (const GoalSpec& k : mission.goals) g.goals.push_back({k.x_m, k.y_m, k.yaw_deg * kDeg});
   g.speed_mps = mission.speed_mps;
   g.follower = mission.follower == "vff" ? fw::GotoFollower::Vff : fw::GotoFollower::PurePursuit;
   g.planner.allow_unknown = mission.allow_unknown;
@@ -127,6 +128,18 @@ void apply_goto(const MissionSpec& mission, fw::FirmwareConfig& c) {
   g.pure_pursuit.max_yaw_rate_radps =
       std::min(g.pure_pursuit.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
   g.vff.max_yaw_rate_radps = std::min(g.vff.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
+}
+
+// waypoints: the targets (odometry frame), laps, reach radius; VFF at the mission's speed.
+void apply_waypoints(const MissionSpec& mission, fw::FirmwareConfig& c) {
+  c.mission = fw::MissionKind::Waypoints;
+  fw::WaypointConfig& w = c.waypoints;
+  for (const GoalSpec& t : mission.targets) w.targets.push_back(fw::Vec2(t.x_m, t.y_m));
+  w.laps = std::uint32_t(mission.laps);
+  w.reach_radius_m = mission.reach_radius_m;
+  w.speed_mps = mission.speed_mps;
+  w.vff.cruise_speed_mps = mission.speed_mps;
+  w.vff.max_yaw_rate_radps = std::min(w.vff.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
 }
 
 }  // namespace
@@ -193,6 +206,7 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   st.pid_curve.speed_mps = 0.8 * mission.speed_mps;
   apply_mapping(r, mission.type == "goto", c);
   if (mission.type == "goto") apply_goto(mission, c);
+  if (mission.type == "waypoints") apply_waypoints(mission, c);
   fw::apply_sensor_rates(c);
   if (const fw::Status s = c.validate(); !s) {
     return rejected(explain_base(r, mission, s.message()), s);

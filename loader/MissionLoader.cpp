@@ -37,17 +37,68 @@ void check_end_color(const Node& root, const MissionSpec& m) {
                  m.end_color_name);
 }
 
+GoalSpec parse_goal(const Node& goal);
+void parse_speed(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                 MissionSpec& mission);
+
 // goto: the goal pose, the speed (as follow_line's), the local follower and unknown cells.
 void parse_goto(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                 MissionSpec& mission) {
-  m.expect_map({"type", "goal", "speed_mps", "follower", "allow_unknown"});
-  const Node goal = m.at("goal");
-  goal.expect_map({"x", "y", "yaw_deg"});
-  mission.goal_x_m = goal.at("x").number(Range::closed(-1000.0, 1000.0));
-  mission.goal_y_m = goal.at("y").number(Range::closed(-1000.0, 1000.0));
-  mission.goal_yaw_deg = goal.at("yaw_deg").number(Range::closed(-360.0, 360.0));
+  m.expect_map({"type", "goal", "goals", "speed_mps", "follower", "allow_unknown"});
+  const auto one = m.get("goal");
+  const auto many = m.get("goals");
+  if (one && many) m.expected("exactly one of goal or goals", "both");
+  if (!one && !many) m.expected("exactly one of goal or goals", "neither");
+  if (one) {
+    const GoalSpec g = parse_goal(*one);
+    mission.goal_x_m = g.x_m;
+    mission.goal_y_m = g.y_m;
+    mission.goal_yaw_deg = g.yaw_deg;
+  } else {
+    const auto items = many->items();
+    if (items.empty() || items.size() > 16) {
+      many->expected("a list of 1 to 16 goals", std::to_string(items.size()) + " goals");
+    }
+    for (const Node& g : items) mission.goals.push_back(parse_goal(g));
+    mission.goal_x_m = mission.goals.back().x_m;
+    mission.goal_y_m = mission.goals.back().y_m;
+    mission.goal_yaw_deg = mission.goals.back().yaw_deg;
+  }
   if (auto f = m.get("follower")) mission.follower = f->one_of({"pure_pursuit", "vff"});
   if (auto u = m.get("allow_unknown")) mission.allow_unknown = u->boolean();
+  parse_speed(m, robot, schema, mission);
+}
+
+// waypoints: targets driven to in turn with VFF, no planner (the course's avoidance practice).
+void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                     MissionSpec& mission) {
+  m.expect_map({"type", "targets", "laps", "reach_radius_m", "speed_mps"});
+  const Node list = m.at("targets");
+  const auto items = list.items();
+  if (items.empty() || items.size() > 32) {
+    list.expected("a list of 1 to 32 targets [x, y]", std::to_string(items.size()) + " targets");
+  }
+  for (const Node& t : items) {
+    const auto xy = t.items();
+    if (xy.size() != 2) t.expected("a point [x, y]", "a list of " + std::to_string(xy.size()));
+    mission.targets.push_back(GoalSpec{xy[0].number(Range::closed(-1000.0, 1000.0)),
+                                       xy[1].number(Range::closed(-1000.0, 1000.0)), 0.0});
+  }
+  if (auto n = m.get("laps")) mission.laps = static_cast<int>(n->integer(1, 100));
+  if (auto n = m.get("reach_radius_m"))
+    mission.reach_radius_m = n->number(Range::closed(0.05, 2.0));
+  parse_speed(m, robot, schema, mission);
+}
+
+GoalSpec parse_goal(const Node& goal) {
+  goal.expect_map({"x", "y", "yaw_deg"});
+  return {goal.at("x").number(Range::closed(-1000.0, 1000.0)),
+          goal.at("y").number(Range::closed(-1000.0, 1000.0)),
+          goal.at("yaw_deg").number(Range::closed(-360.0, 360.0))};
+}
+
+void parse_speed(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                 MissionSpec& mission) {
   const double max_speed = robot.limits.max_speed_mps;
   if (auto n = m.get("speed_mps")) {
     mission.speed_mps = n->number(Range::closed(0.01, 5.0));
@@ -90,6 +141,11 @@ void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& s
     parse_goto(m, robot, schema, mission);
     return;
   }
+  if (auto t = m.get("type"); t && t->yaml().IsScalar() && t->string() == "waypoints") {
+    mission.type = "waypoints";
+    parse_waypoints(m, robot, schema, mission);
+    return;
+  }
   if (schema.file) {
     m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps", "tape_preview_m",
                   "behavior", "strategy_gains"});
@@ -98,9 +154,9 @@ void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& s
   }
   const Node type = m.at("type");
   if (type.yaml().IsScalar() && type.string() == "coverage") {
-    type.expected("follow_line or goto (coverage is not supported yet)");
+    type.expected("follow_line, goto or waypoints (coverage is not supported yet)");
   }
-  mission.type = type.one_of({"follow_line", "goto"});
+  mission.type = type.one_of({"follow_line", "goto", "waypoints"});
   const Node strategy = m.at("strategy");
   mission.strategy = strategy.one_of({"line_priority", "marks", "pid"});
   if (mission.strategy == "line_priority" && robot.drive != DriveType::Mecanum) {

@@ -14,8 +14,14 @@ struct Rgb {
   bool operator==(const Rgb&) const = default;
 };
 
+// A goal pose or waypoint as a mission section writes it.
+struct GoalSpec {
+  double x_m = 0.0, y_m = 0.0;  // [m]
+  double yaw_deg = 0.0;         // [deg]
+};
+
 struct MissionSpec {
-  std::string type = "follow_line";  // follow_line | goto
+  std::string type = "follow_line";  // follow_line | goto | waypoints
   std::string strategy = "pid";      // line_priority | marks | pid
   Rgb line_color{255, 255, 255};
   std::string line_color_name = "white";  // name as written, or "[r, g, b]"
@@ -30,6 +36,12 @@ struct MissionSpec {
   double goal_yaw_deg = 0.0;              // [deg]
   std::string follower = "pure_pursuit";  // pure_pursuit | vff
   bool allow_unknown = true;
+  // goto through several goals (`goals:`, the taxi): in order; empty with a single `goal:`.
+  std::vector<GoalSpec> goals;
+  // waypoints (a course followed with VFF): the targets (yaw unused), laps, how close counts.
+  std::vector<GoalSpec> targets;
+  int laps = 1;
+  double reach_radius_m = 0.25;   // [m]
   std::vector<Setting> settings;  // a mission file's behavior:, strategy_gains:, tape_preview_m
   std::string source_path;        // the mission file ("" for a scenario's section)
 };

@@ -22,6 +22,11 @@ Status FirmwareConfig::validate() const {
         .fail_if(!mapping.enabled, "mapping.enabled",
                  "must be true for goto (it plans on the costmap)");
   }
+  if (mission == MissionKind::Waypoints) {
+    c.nested(waypoints.validate())
+        .fail_if(!mapping.enabled, "mapping.enabled",
+                 "must be true for waypoints (VFF is pushed by the costmap's obstacles)");
+  }
   if (lidar.present) c.nested(lidar.validate());
   c.nested(localisation.validate());
   const bool have_map = map != nullptr && !map->empty();

@@ -12,12 +12,13 @@
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
+#include "firmware/mission/WaypointMission.hpp"
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleSensing.hpp"
 
 namespace carril::fw {
 
-enum class MissionKind : std::uint8_t { FollowLine, Goto };
+enum class MissionKind : std::uint8_t { FollowLine, Goto, Waypoints };
 
 struct FirmwareConfig {
   double rate_hz = 100.0;  // control tick [Hz]
@@ -32,6 +33,7 @@ struct FirmwareConfig {
   MissionKind mission = MissionKind::FollowLine;  // which mission runs
   FollowLineConfig follow_line;                   // follow_line: strategy and state machine
   GotoConfig goto_mission;                        // goto: goal, planner and follower
+  WaypointConfig waypoints;         // waypoints: the course's targets, followed with VFF
   MappingConfig mapping;            // the costmap (goto plans on it, follow_line avoids with it)
   LocalisationConfig localisation;  // on a known map: where the robot starts, how it localises
   // The static map (the building), owned by the target's wiring file, which keeps it alive as

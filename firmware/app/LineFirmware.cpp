@@ -18,9 +18,8 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       mission(cfg.follow_line, cfg.footprint(), kinematics.holonomic(), cfg.lidar.present,
               bus.odometry, bus.line, bus.obstacles),
       goto_mission(cfg.goto_mission, cfg.footprint(), kinematics.holonomic(), bus.pose, mapping),
-      runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(),
-             cfg.mission == MissionKind::Goto ? static_cast<Mission&>(goto_mission)
-                                              : static_cast<Mission&>(mission),
+      waypoints(cfg.waypoints, cfg.footprint(), kinematics.holonomic(), bus.pose, mapping),
+      runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), select_mission(cfg.mission),
              bus.frame, bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
@@ -70,9 +69,20 @@ void LineFirmware::refresh_telemetry() {
   status.publish();
 }
 
+Mission& LineFirmware::select_mission(MissionKind kind) {
+  switch (kind) {
+    case MissionKind::Goto:
+      return goto_mission;
+    case MissionKind::Waypoints:
+      return waypoints;
+    case MissionKind::FollowLine:
+      break;
+  }
+  return mission;
+}
+
 const Mission& LineFirmware::active_mission() const {
-  return cfg_.mission == MissionKind::Goto ? static_cast<const Mission&>(goto_mission)
-                                           : static_cast<const Mission&>(mission);
+  return const_cast<LineFirmware*>(this)->select_mission(cfg_.mission);
 }
 
 std::uint32_t LineFirmware::mission_counter(const char* name) const {

@@ -20,6 +20,7 @@
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
+#include "firmware/mission/WaypointMission.hpp"
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleSensing.hpp"
 #include "hal/Clock.hpp"
@@ -87,12 +88,15 @@ class LineFirmware {
   Mapping mapping;  // the costmap (a CostmapView for the missions)
   FollowLineMission mission;
   GotoMission goto_mission;
+  WaypointMission waypoints;
   MissionRunner runner;  // runs the configured one of the missions above
   MotionOutput output;
   // Control loop -> slow rate group: the newest status snapshot (read by a StatusReporter).
   TripleBuffer<StatusSnapshot> status;
 
  private:
+  // The mission of that kind (members above are constructed before the runner takes one).
+  Mission& select_mission(MissionKind kind);
   const FirmwareConfig cfg_;
   FirmwareTelemetry telemetry_;
 };

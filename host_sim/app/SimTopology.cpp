@@ -6,6 +6,7 @@
 
 #include "host_sim/app/CostmapOutputs.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
+#include "loader/OccupancyMapFile.hpp"
 
 namespace carril::sim {
 
@@ -16,20 +17,38 @@ constexpr std::int64_t us(double v) {
 }
 }  // namespace
 
-fw::FirmwareConfig firmware_config(const Scenario& s) {
+fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map) {
   // The same builder as the robot target's; a rejection reads as SimTopology's own would.
   loader::BuildResult b = loader::build_firmware_config(s.robot, s.mission);
   if (!b.ok) {
     throw std::invalid_argument(s.source_path + ": firmware configuration: " +
                                 (b.firmware_error.empty() ? b.error : b.firmware_error));
   }
-  // A scenario's goal is in the world frame; the firmware's odometry starts at the start pose.
-  if (b.config.mission == fw::MissionKind::Goto) {
-    b.config.goto_mission.goal =
-        world_to_odom(s.robot.start, s.mission.goal_x_m, s.mission.goal_y_m,
-                      s.mission.goal_yaw_deg * kPi / 180.0);
+  fw::FirmwareConfig& c = b.config;
+  if (s.map && map != nullptr) {
+    // On a map the world frame is the map frame: goals stay as written; the firmware is told
+    // where it starts (the true start unless the scenario says otherwise).
+    *map = fw::OccupancyGrid(s.map->cells.size());
+    if (const fw::Status st = map->assign(s.map->info, s.map->cells.data()); !st) {
+      throw std::invalid_argument(s.source_path + ": map: " + st.message());
+    }
+    c.map = map;
+    c.localisation.enabled = true;
+    const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
+    c.localisation.initial_pose = {p.x, p.y, p.yaw_rad};
+    return c;
   }
-  return b.config;
+  // A scenario's goals are in the world frame; the firmware's odometry starts at the start pose.
+  if (c.mission == fw::MissionKind::Goto) {
+    c.goto_mission.goal = world_to_odom(s.robot.start, s.mission.goal_x_m, s.mission.goal_y_m,
+                                        s.mission.goal_yaw_deg * kPi / 180.0);
+    for (fw::Pose2& g : c.goto_mission.goals) g = world_to_odom(s.robot.start, g.x, g.y, g.yaw);
+  }
+  for (fw::Vec2& t : c.waypoints.targets) {
+    const fw::Pose2 o = world_to_odom(s.robot.start, t.x(), t.y(), 0.0);
+    t = fw::Vec2(o.x, o.y);
+  }
+  return c;
 }
 
 fw::Status declare_tasks(fw::LineFirmware& f) {
@@ -93,7 +112,7 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       encoders(s.odometry, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu, &cloud},
-      config(checked(firmware_config(s), tweak, s)),
+      config(checked(firmware_config(s, &static_map), tweak, s)),
       firmware(wired(config, clock, s)),
       app(devices, firmware->controller),
       reporter(firmware->status, console),

@@ -24,8 +24,11 @@
 
 namespace carril::sim {
 
-// Firmware configuration for the robot and mission a scenario describes.
-fw::FirmwareConfig firmware_config(const Scenario& s);
+// Firmware configuration for the robot and mission a scenario describes. With a map, `map` is
+// the static map the firmware is given (filled from the scenario's; it must outlive the
+// firmware), goals stay in the world frame (the map frame) and localisation starts at the
+// scenario's initial pose; without one, goals are carried into the odometry frame.
+fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map = nullptr);
 
 // Changes the firmware configuration after it is derived from the scenario (tests: a rule
 // switched off, to show what it guards against).
@@ -62,6 +65,7 @@ struct SimTopology {
   hal::SimWheelDrives drives;
   hal::Devices devices;
   // The firmware.
+  fw::OccupancyGrid static_map;  // the scenario's map as the firmware gets it (empty without)
   fw::FirmwareConfig config;
   std::unique_ptr<fw::LineFirmware> firmware;  // large (latency histograms): on the heap, at init
   fw::FirmwareApp app;
