@@ -33,6 +33,8 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map) {
       throw std::invalid_argument(s.source_path + ": map: " + st.message());
     }
     c.map = map;
+    // Indoors on a surveyed floor: no terrain layer (nor a 3D lidar to render for it).
+    c.mapping.terrain = false;
     c.localisation.enabled = true;
     const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
     c.localisation.initial_pose = {p.x, p.y, p.yaw_rad};

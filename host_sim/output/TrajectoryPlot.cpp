@@ -7,6 +7,7 @@
 
 #include "host_sim/output/PlotUtil.hpp"
 #include "host_sim/output/Plots.hpp"
+#include "loader/OccupancyMapFile.hpp"
 
 namespace carril::sim {
 namespace {
@@ -90,6 +91,11 @@ Bounds scene_bounds(const Scenario& sc, const std::vector<TrajectoryRow>& rows,
   }
   for (const WallSpec& w : sc.walls)
     for (const Vec2& p : w.points) b.add(p.x, p.y, w.thickness_m / 2.0);
+  if (sc.map) {
+    const fw::MapInfo& m = sc.map->info;
+    b.add(m.origin_x_m, m.origin_y_m);
+    b.add(m.origin_x_m + m.nx * m.resolution_m, m.origin_y_m + m.ny * m.resolution_m);
+  }
   for (const TerrainSpec& t : sc.terrain)
     for (const Vec2& c : rect_corners(t.center, t.yaw_rad, t.length_m, t.width_m)) b.add(c.x, c.y);
   for (const TrajectoryRow& r : rows) b.add(r.x, r.y);
@@ -133,6 +139,18 @@ void draw_scene(cv::Mat& img, const View& v, const Scenario& sc) {
       const int tw = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &baseline).width;
       plot::put_text(img, label, v.whole(t.center.x, t.center.y) + cv::Point(-tw / 2, 5), 0.45,
                      ramp ? kRamp : kStep);
+    }
+  }
+  // A map's occupied cells, as walls (whole cells, filled).
+  if (sc.map) {
+    const fw::MapInfo& m = sc.map->info;
+    const double r = m.resolution_m;
+    for (int j = 0; j < m.ny; ++j) {
+      for (int i = 0; i < m.nx; ++i) {
+        if (sc.map->cells[std::size_t(j) * std::size_t(m.nx) + std::size_t(i)] != 254) continue;
+        const double x = m.origin_x_m + i * r, y = m.origin_y_m + j * r;
+        cv::rectangle(img, v.px(x, y + r), v.px(x + r, y), kWall, cv::FILLED, cv::LINE_8, kShift);
+      }
     }
   }
   // Walls: filled strips of their real thickness, joints rounded.
