@@ -174,6 +174,18 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
     accounting_ = false;
     return;
   }
+  // Every cell's route must fit the route buffer (the longest: many lanes and their U-turns).
+  for (std::size_t k = 0; k < bcd_.cell_count(); ++k) {
+    if (!bcd_.route(CellVisit{std::uint16_t(k), 0}, route_)) {
+      init_status_ = Status::error(
+          "coverage: cell %zu of the area needs more than %zu route waypoints (cover the "
+          "area in parts: coverage.area)",
+          k, kMaxRoute);
+      accounting_ = false;
+      return;
+    }
+  }
+  route_.clear();
   // The tour starts at the map's lower-left corner; PLAN drives it backwards when its other end
   // is nearer the robot.
   bcd_.order(Vec2(info.origin_x_m, info.origin_y_m));

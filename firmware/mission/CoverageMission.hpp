@@ -81,7 +81,7 @@ struct CoverageConfig {
   double skip_swept_cell = 0.98;     // a cell this much swept already (from its neighbours' lanes)
                                      // is not visited [-]
   std::uint32_t max_revisits = 200;  // REVISIT ends after this many targets [targets]
-  double revisit_spin_rad = 3.5;     // turned on the spot at a revisit target [rad]
+  double revisit_spin_rad = 3.3;     // turned on the spot at a revisit target [rad]
   double spin_rate_radps = 1.0;      // that turn's rate [rad/s]
   double max_time_s = 1800.0;        // the mission ends (DONE) after this long; 0: never [s]
   std::uint32_t seed = 1;            // the vacuum's random turns
@@ -170,6 +170,7 @@ class CoverageMission final : public Mission {
   bool pick_next_cell(const Pose2& pose);
   bool pick_resume(const Pose2& pose);
   bool pick_revisit(const Pose2& pose);
+  std::int32_t reachable_anchor(std::size_t k, long& budget) const;
   bool path_to(int ti, int tj, const Vec2& target);
   MissionOutput transit(const Pose2& pose);
   MissionOutput sweep(const Pose2& pose);
@@ -227,6 +228,7 @@ class CoverageMission final : public Mission {
   std::uint32_t stops_in_a_row_ = 0;
   Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
   double spun_rad_ = 0.0, spin_last_yaw_ = 0.0;
+  Vec2 spin_at_{0.0, 0.0};  // where the revisit turns [m]
 
   // vacuum
   std::uint32_t rng_ = 1;

@@ -184,35 +184,75 @@ bool CoverageMission::pick_resume(const Pose2& pose) {
   return path_to(i, j, q);
 }
 
-// The unswept reachable cell whose anchor is nearest by the planner (each tried once).
+// The unswept cell whose anchor is nearest by the planner (each tried once). The target counts
+// what the robot can reach now: unswept cells whose anchors the costmap has sealed off (an
+// obstacle the map does not show stands there) are no part of it.
 bool CoverageMission::pick_revisit(const Pose2& pose) {
   (void)pose;
-  if (coverage_.covered_fraction() >= cfg_.target_coverage || revisits_ >= cfg_.max_revisits) {
-    return false;
-  }
+  if (revisits_ >= cfg_.max_revisits) return false;
   const int nx = map_.nx();
   float best = WavefrontPlanner::kInfinity;
-  std::size_t pick = 0;
+  std::size_t pick = 0, sealed = 0;
   std::int32_t anchor = -1;
   const std::uint8_t* coverable = area_.coverable();
   const std::uint8_t* counts = coverage_.counts();
+  // Cells whose own anchor is sealed off look for another within the reach, within a budget
+  // (cells looked at) that bounds this tick.
+  long budget = long(area_.size());
   for (std::size_t k = 0; k < area_.size(); ++k) {
-    if (coverable[k] == 0 || counts[k] != 0 || abandoned_[k] != 0) continue;
-    const std::int32_t a = area_.anchor(k);
-    const float c = planner_.cost_to_goal(int(a % nx), int(a / nx));
-    if (c < best) {
+    if (coverable[k] == 0 || counts[k] != 0) continue;
+    std::int32_t a = area_.anchor(k);
+    float c = planner_.cost_to_goal(int(a % nx), int(a / nx));
+    if (c >= WavefrontPlanner::kInfinity && budget > 0) {
+      a = reachable_anchor(k, budget);
+      if (a >= 0) c = planner_.cost_to_goal(int(a % nx), int(a / nx));
+    }
+    if (c >= WavefrontPlanner::kInfinity) {
+      ++sealed;
+      continue;
+    }
+    if (abandoned_[k] == 0 && c < best) {
       best = c;
       pick = k;
       anchor = a;
     }
+  }
+  const std::size_t reachable = coverage_.mask_cells() - sealed;
+  if (reachable == 0 ||
+      double(coverage_.covered_cells()) >= cfg_.target_coverage * double(reachable)) {
+    return false;
   }
   if (anchor < 0) return false;
   abandoned_[pick] = 1;
   ++revisits_;
   after_transit_ = State::Spin;
   const int ai = int(anchor % nx), aj = int(anchor / nx);
-  if (!path_to(ai, aj, map_.centre(ai, aj))) next_plan(Purpose::Revisit);
+  spin_at_ = map_.centre(ai, aj);
+  if (!path_to(ai, aj, spin_at_)) next_plan(Purpose::Revisit);
   return true;
+}
+
+// A cell the planner reached (from the robot) within the tool's reach of cell k, the nearest to
+// it; -1 when none. Each cell looked at costs one from `budget`.
+std::int32_t CoverageMission::reachable_anchor(std::size_t k, long& budget) const {
+  const int nx = map_.nx();
+  const int ci = int(k % std::size_t(nx)), cj = int(k / std::size_t(nx));
+  const double reach = area_.reach_m() / map_.resolution();
+  const int r = int(std::floor(reach));
+  const double r2 = reach * reach;
+  std::int32_t best = -1;
+  int best_d2 = 0;
+  for (int dj = -r; dj <= r; ++dj) {
+    for (int di = -r; di <= r; ++di) {
+      const int d2 = di * di + dj * dj;
+      if (d2 > r2 || (best >= 0 && d2 >= best_d2)) continue;
+      --budget;
+      if (!planner_.reachable(ci + di, cj + dj)) continue;
+      best = std::int32_t(cell_index(ci + di, cj + dj));
+      best_d2 = d2;
+    }
+  }
+  return best;
 }
 
 // The path from the robot (the wavefront's seed) to cell (ti, tj), ending on `target` [m].
@@ -423,7 +463,23 @@ bool CoverageMission::cut_lane(const Pose2& pose, const PathProjection& at) {
 MissionOutput CoverageMission::spin(const Pose2& pose) {
   spun_rad_ += std::fabs(wrap_angle(pose.yaw - spin_last_yaw_));
   spin_last_yaw_ = pose.yaw;
-  if (spun_rad_ >= cfg_.revisit_spin_rad) return next_plan(Purpose::Revisit);
+  if (spun_rad_ >= cfg_.revisit_spin_rad) {
+    // What the turn did not reach round here is out of the tool's reach from where the robot
+    // can stand: not tried again.
+    const double res = map_.resolution();
+    const int r = int(std::ceil(cfg_.tool_width_m / res));
+    int ci = 0, cj = 0;
+    map_.cell_of(spin_at_.x(), spin_at_.y(), ci, cj);
+    for (int j = cj - r; j <= cj + r; ++j) {
+      for (int i = ci - r; i <= ci + r; ++i) {
+        if (!map_.contains(i, j) || coverage_.count(i, j) != 0) continue;
+        if ((map_.centre(i, j) - spin_at_).norm() <= cfg_.tool_width_m) {
+          abandoned_[cell_index(i, j)] = 1;
+        }
+      }
+    }
+    return next_plan(Purpose::Revisit);
+  }
   MissionOutput out;
   out.motion.twist.wz = cfg_.spin_rate_radps;
   return out;
