@@ -335,9 +335,7 @@ MissionOutput CoverageMission::transit(const Pose2& pose) {
   }
   MissionOutput out;
   out.motion.twist = transit_follower_.update(pose, waypoints_.begin(), waypoints_.size());
-  // Creeping onto the target (a cell the robot fits on) needs no stop for the wall beyond it.
-  const bool near_end = (waypoints_.back() - Vec2(pose.x, pose.y)).norm() < 0.3;
-  if (out.motion.twist.vx > 0.0 && !near_end && lethal_near(pose, cfg_.emergency_stop_m, true)) {
+  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true)) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
       return out;

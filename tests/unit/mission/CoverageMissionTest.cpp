@@ -198,7 +198,12 @@ struct Rig {
       pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
       r.path_m += std::fabs(t.vx) * 0.01;
       r.time_s = (k + 1) * 0.01;
-      if (collides()) ++r.collisions;
+      if (collides()) {
+        ++r.collisions;
+        if (trace_)
+          std::printf("  collision %.2f s %s (%.3f, %.3f, %.2f) v %.2f w %.2f\n", ctx.t_s,
+                      mission->state().phase, pose.x, pose.y, pose.yaw, t.vx, t.wz);
+      }
       for (const Box& b : hidden_) {
         const double dx = std::fmax(0.0, std::fmax(b.x0 - pose.x, pose.x - b.x1));
         const double dy = std::fmax(0.0, std::fmax(b.y0 - pose.y, pose.y - b.y1));
