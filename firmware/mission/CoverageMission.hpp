@@ -74,7 +74,7 @@ struct CoverageConfig {
   double tool_width_m = 0.5;         // the tool's width across the robot [m]
   double speed_mps = 0.4;            // cruise speed on the lanes and in transit [m/s]
   double lane_overlap = 0.1;         // lanes are tool_width * (1 - lane_overlap) apart [-]
-  double turn_radius_m = 0.1;        // U-turn arcs between lanes; 0: half the lane spacing [m]
+  double turn_radius_m = 0.0;        // U-turn arcs between lanes; 0: half the lane spacing [m]
   double wall_clearance_m = 0.0;     // the lanes keep this much beyond the inscribed radius [m]
   StaticVector<Vec2, 16> area;       // the area's polygon, map frame [m]; empty: the whole map
   double target_coverage = 0.97;     // REVISIT ends at this covered fraction of the area [-]

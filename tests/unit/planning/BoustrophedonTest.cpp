@@ -33,7 +33,7 @@ struct Mask {
   }
 };
 
-BoustrophedonConfig config(double turn_radius = 0.1) {
+BoustrophedonConfig config(double turn_radius = 0.0) {
   BoustrophedonConfig c;
   c.lane_spacing_m = 0.45;
   c.turn_radius_m = turn_radius;
@@ -194,13 +194,17 @@ TEST(BoustrophedonTest, EveryRouteSweepsItsCellWithTheToolWidth) {
   m.fill(15, 10, 24, 19, 0);
   m.fill(35, 0, 37, 35, 0);
   m.fill(35, 15, 37, 22, 1);
-  ASSERT_TRUE(decompose(b, m).is_ok());
-  ASSERT_GE(b.cell_count(), 6u);
-  for (std::size_t k = 0; k < b.cell_count(); ++k) {
-    for (std::uint8_t e = 0; e < 4; ++e) {
-      SCOPED_TRACE("cell " + std::to_string(k) + " entry " + std::to_string(e));
-      const CellVisit v{std::uint16_t(k), e};
-      EXPECT_EQ(route_coverage(b, m, v, 0.5), 1.0);
+  // U-turns of half the lane spacing, and tighter ones.
+  for (const double radius : {0.0, 0.1}) {
+    ASSERT_TRUE(decompose(b, m, config(radius)).is_ok());
+    ASSERT_GE(b.cell_count(), 6u);
+    for (std::size_t k = 0; k < b.cell_count(); ++k) {
+      for (std::uint8_t e = 0; e < 4; ++e) {
+        SCOPED_TRACE("radius " + std::to_string(radius) + " cell " + std::to_string(k) + " entry " +
+                     std::to_string(e));
+        const CellVisit v{std::uint16_t(k), e};
+        EXPECT_EQ(route_coverage(b, m, v, 0.5), 1.0);
+      }
     }
   }
 }
