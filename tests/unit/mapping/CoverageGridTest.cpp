@@ -37,7 +37,9 @@ Pose2 drive(CoverageGrid& g, Pose2 a, const Pose2& b, double tool = 0.5) {
   return at;
 }
 
-double cx(int i) { return (i + 0.5) * kRes; }
+double cx(int i) {
+  return (i + 0.5) * kRes;
+}
 
 TEST(CoverageGridTest, AStraightRunCountsEveryCellUnderTheToolOnce) {
   CoverageGrid g = make_grid();
@@ -91,6 +93,19 @@ TEST(CoverageGridTest, AFullTurnOnTheSpotPassesTwiceOverItsDisk) {
   EXPECT_EQ(g.count(int(2.15 / kRes), 20), 2);
   EXPECT_EQ(g.count(int(2.0 / kRes), int(1.15 / kRes)), 2);
   EXPECT_EQ(g.count(int(2.35 / kRes), 20), 0);  // beyond the tool's half width
+
+  // One call turning 1 rad marks the two sectors the tool swept, not the ones beside them.
+  CoverageGrid one = make_grid();
+  one.sweep(Pose2{2.0, 1.0, 0.0}, Pose2{2.0, 1.0, 1.0}, 0.5);
+  const auto polar = [&](double angle, double r) {
+    return one.count(int(std::floor((2.0 + r * std::cos(angle)) / kRes)),
+                     int(std::floor((1.0 + r * std::sin(angle)) / kRes)));
+  };
+  // The tool's left end starts at +90 deg and turns to 147 deg; the right end from -90 deg.
+  EXPECT_EQ(polar(2.1, 0.2), 1);
+  EXPECT_EQ(polar(-1.1, 0.2), 1);
+  EXPECT_EQ(polar(0.6, 0.2), 0);
+  EXPECT_EQ(polar(3.0, 0.2), 0);
 }
 
 TEST(CoverageGridTest, AJumpMarksOnlyTheToolAtTheNewPose) {
