@@ -147,12 +147,17 @@ TEST(BoustrophedonTest, AnObstacleSplitsTheRoomIntoFourCells) {
   ASSERT_TRUE(b.init(100, 100, 64, 256).is_ok());
   Mask m(40, 30);
   m.fill(15, 10, 24, 19, 0);
-  ASSERT_TRUE(decompose(b, m).is_ok());
-  expect_partition(b, m);
-  // Left of it, below it, above it, right of it (Choset's split and merge).
-  ASSERT_EQ(b.cell_count(), 4u);
-  EXPECT_EQ(b.cell(0).x1, 14);
-  EXPECT_EQ(b.cell(3).x0, 25);
+  // Left of it, below it, above it, right of it (Choset's split and merge), with and without
+  // the boundary-jump rule.
+  for (const int step : {2, 1000}) {
+    BoustrophedonConfig cfg = config();
+    cfg.max_boundary_step = step;
+    ASSERT_TRUE(decompose(b, m, cfg).is_ok());
+    expect_partition(b, m);
+    ASSERT_EQ(b.cell_count(), 4u);
+    EXPECT_EQ(b.cell(0).x1, 14);
+    EXPECT_EQ(b.cell(3).x0, 25);
+  }
 }
 
 TEST(BoustrophedonTest, TwoRoomsAndTheirDoorAreSeparateCells) {
@@ -232,15 +237,25 @@ TEST(BoustrophedonTest, RoutesStartAndEndAtTheVisitsCornersAndReverse) {
   }
 }
 
-TEST(BoustrophedonTest, RandomRoutesSweepNearlyAllOfTheirCells) {
+TEST(BoustrophedonTest, RandomRoutesStayInTheirCellsAndSweepNearlyAllOfThem) {
   Boustrophedon b;
   ASSERT_TRUE(b.init(100, 100, 1024, 4096).is_ok());
   double worst = 1.0;
+  StaticVector<Vec2, 4096> route;
   for (std::uint32_t seed = 1; seed <= 10; ++seed) {
     const Mask m = random_mask(seed);
     ASSERT_TRUE(decompose(b, m).is_ok());
     std::size_t covered = 0, total = 0;
     for (std::size_t k = 0; k < b.cell_count(); ++k) {
+      // Every point of the route, U-turns included, on a free cell of its own cell.
+      ASSERT_TRUE(b.route(CellVisit{std::uint16_t(k), 0}, route));
+      for (std::size_t i = 1; i < route.size(); ++i) {
+        for (int s = 0; s <= 10; ++s) {
+          const Vec2 p = route[i - 1] + (route[i] - route[i - 1]) * (s / 10.0);
+          const int x = int(std::floor(p.x() / kRes)), y = int(std::floor(p.y() / kRes));
+          ASSERT_EQ(b.label(x, y), k) << "seed " << seed << " at " << p.transpose();
+        }
+      }
       const double f = route_coverage(b, m, CellVisit{std::uint16_t(k), 0}, 0.5);
       covered += std::size_t(std::lround(f * b.cell(k).area));
       total += b.cell(k).area;
