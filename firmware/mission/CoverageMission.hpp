@@ -8,9 +8,12 @@
 // wavefront planner on the static map overlaid with the live costmap (so they go through doors
 // and round what the lidar sees). The mission marks its CoverageGrid from the localised pose
 // every tick, so it knows what it really swept: a lane blocked by an obstacle the map does not
-// show is cut short and resumed past it, and after the last cell it goes back for what is left
-// (REVISIT: to the unswept cell nearest by the planner, turns once on the spot there) until the
-// target coverage of the reachable area is reached or nothing reachable is left.
+// show is cut short and resumed past it; a cell its neighbours' lanes already swept is skipped;
+// each cell is entered at the corner nearest the robot. After the last cell it goes back for
+// what is left (REVISIT: to the unswept cell nearest by the planner, a half turn and more on the
+// spot there, each cell tried once) until target_coverage of the cells reachable now is swept
+// (cells an unmapped obstacle seals off do not count) or nothing reachable is left. It does not
+// call the job complete when it is not: covered_permille is what it swept of the whole area.
 //
 //   WAIT --drives ready, costmap built--> PLAN(initial: reachable area, tour direction)
 //   PLAN(next cell) --path--> TRANSIT --at the cell's corner--> SWEEP --end of its lanes--> PLAN
@@ -25,6 +28,11 @@
 //   SPIRAL --bump--> BACK_UP --timer--> TURN (random direction and time) --timer--> FORWARD
 //   FORWARD --bump--> BACK_UP; FORWARD --timer--> SPIRAL; SPIRAL --spiral_max_s--> FORWARD
 // A bump is a lethal costmap cell just ahead of the body, or the obstacle guard's stop corridor.
+//
+// The body is taken as its inscribed circle throughout (the area's erosion, the costmap's
+// inscribed cells, the checks ahead), so a square body's corners may brush a wall in a turn.
+// Counters: cells, lanes (of the cells finished), lanes_blocked, revisits, bumps, replans,
+// covered_permille, overlap_permille (of the reachable coverable cells, CoverageArea).
 //
 // Both stop after max_time_s (DONE, phase "time_limit"). Every tick's work is bounded: the heavy
 // work (erosion, decomposition, gaps, tour) runs in the constructor; planning spreads the
