@@ -24,6 +24,8 @@ enum class Fault : std::uint8_t {
                        // missed their deadline (the loop cannot keep its rate)
   NoPath,              // goto: no traversable path from the robot to the goal on the costmap
   GoalInvalid,         // goto: the goal is outside the costmap or inside an obstacle
+  NoCoverageArea,      // coverage: no free cell to cover (no static map, or the area eroded by
+                       // the robot's radius holds no cell where it fits)
   Count,
 };
 
@@ -63,6 +65,8 @@ inline const char* fault_name(Fault f) {
       return "no_path";
     case Fault::GoalInvalid:
       return "goal_invalid";
+    case Fault::NoCoverageArea:
+      return "no_coverage_area";
     case Fault::Count:
       break;
   }

@@ -1,0 +1,252 @@
+#pragma once
+// The coverage (cleaning) mission: sweep the free space of the static map, or of a polygon of it,
+// with a tool of tool_width across the robot. Two modes:
+//
+// systematic: the area's boustrophedon decomposition (firmware/planning/Boustrophedon.hpp, built
+// at init from the static map eroded by the robot's radius) is driven cell by cell in the order of
+// its tour, each cell's lanes with pure pursuit at cruise speed; transitions are planned with the
+// wavefront planner on the static map overlaid with the live costmap (so they go through doors
+// and round what the lidar sees). The mission marks its CoverageGrid from the localised pose
+// every tick, so it knows what it really swept: a lane blocked by an obstacle the map does not
+// show is cut short and resumed past it; a cell its neighbours' lanes already swept is skipped;
+// each cell is entered at the corner nearest the robot. After the last cell it goes back for
+// what is left (REVISIT: to the unswept cell nearest by the planner, a half turn and more on the
+// spot there, each cell tried once) until target_coverage of the cells reachable now is swept
+// (cells an unmapped obstacle seals off do not count) or nothing reachable is left. It does not
+// call the job complete when it is not: covered_permille is what it swept of the whole area.
+//
+//   WAIT --drives ready, costmap built--> PLAN(initial: reachable area, tour direction)
+//   PLAN(next cell) --path--> TRANSIT --at the cell's corner--> SWEEP --end of its lanes--> PLAN
+//   SWEEP --obstacle on the lane ahead--> PLAN(resume past it) --> TRANSIT --> SWEEP
+//   PLAN(next cell) --no cell left--> PLAN(revisit) --> TRANSIT --> SPIN --> PLAN(revisit)
+//   PLAN(revisit) --target coverage reached, or no reachable unswept cell--> DONE
+//   TRANSIT --a lethal cell just ahead, the path straight on--> REVERSE --> PLAN (same target)
+//   WAIT/PLAN --no free cell to cover--> FAILED (no_coverage_area); --nothing reachable--> FAILED
+//   (no_path)
+//
+// vacuum: the course's reactive state machine as a baseline, blind to the map:
+//   SPIRAL --bump--> BACK_UP --timer--> TURN (random direction and time) --timer--> FORWARD
+//   FORWARD --bump--> BACK_UP; FORWARD --timer--> SPIRAL; SPIRAL --spiral_max_s--> FORWARD
+// A bump is a lethal costmap cell just ahead of the body, or the obstacle guard's stop corridor.
+//
+// The body is taken as its inscribed circle throughout (the area's erosion, the costmap's
+// inscribed cells, the checks ahead), so a square body's corners may brush a wall in a turn.
+// Counters: cells, lanes (of the cells finished), lanes_blocked, revisits, bumps, replans,
+// covered_permille, overlap_permille (of the reachable coverable cells, CoverageArea).
+//
+// Both stop after max_time_s (DONE, phase "time_limit"). Every tick's work is bounded: the heavy
+// work (erosion, decomposition, gaps, tour) runs in the constructor; planning spreads the
+// wavefront over ticks (plan_expansions_per_tick); a tick copies the costmap at most once.
+#include <cstdint>
+#include <memory>
+
+#include "firmware/control/PathTracker.hpp"
+#include "firmware/control/PurePursuitFollower.hpp"
+#include "firmware/core/StaticVector.hpp"
+#include "firmware/core/Status.hpp"
+#include "firmware/core/Topic.hpp"
+#include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mapping/CostmapView.hpp"
+#include "firmware/mapping/CoverageGrid.hpp"
+#include "firmware/mapping/OccupancyGrid.hpp"
+#include "firmware/mission/Mission.hpp"
+#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/planning/Boustrophedon.hpp"
+#include "firmware/planning/CoverageArea.hpp"
+#include "firmware/planning/WavefrontPlanner.hpp"
+
+namespace carril::fw {
+
+enum class CoverageMode : std::uint8_t { Systematic, Vacuum };
+
+// The reactive baseline's timers and speeds.
+struct VacuumConfig {
+  double spiral_speed_mps = 0.3;       // along the spiral [m/s]
+  double spiral_start_radius_m = 0.1;  // [m]
+  double spiral_growth_mps = 0.01;     // the radius grows this fast [m/s]
+  double spiral_max_s = 60.0;          // then FORWARD [s]
+  double backup_s = 1.0;               // BACK_UP time [s]
+  double backup_speed_mps = 0.15;      // [m/s]
+  double turn_min_s = 0.5;             // TURN lasts a random time in [turn_min_s, turn_max_s] [s]
+  double turn_max_s = 2.5;             // [s]
+  double turn_rate_radps = 1.0;        // [rad/s]
+  double forward_speed_mps = 0.4;      // [m/s]
+  double forward_s = 15.0;             // FORWARD without a bump this long: SPIRAL again [s]
+  double bump_m = 0.03;                // a lethal cell this close ahead of the body: a bump [m]
+
+  Status validate() const;
+};
+
+struct CoverageConfig {
+  CoverageMode mode = CoverageMode::Systematic;
+  double tool_width_m = 0.5;         // the tool's width across the robot [m]
+  double speed_mps = 0.4;            // cruise speed on the lanes and in transit [m/s]
+  double lane_overlap = 0.1;         // lanes are tool_width * (1 - lane_overlap) apart [-]
+  double turn_radius_m = 0.0;        // U-turn arcs between lanes; 0: half the lane spacing [m]
+  double wall_clearance_m = 0.0;     // the lanes keep this much beyond the inscribed radius [m]
+  StaticVector<Vec2, 16> area;       // the area's polygon, map frame [m]; empty: the whole map
+  double target_coverage = 0.97;     // REVISIT ends at this covered fraction of the area [-]
+  double skip_swept_cell = 0.98;     // a cell this much swept already (from its neighbours' lanes)
+                                     // is not visited [-]
+  std::uint32_t max_revisits = 200;  // REVISIT ends after this many targets [targets]
+  double revisit_spin_rad = 3.3;     // turned on the spot at a revisit target [rad]
+  double spin_rate_radps = 1.0;      // that turn's rate [rad/s]
+  double max_time_s = 1800.0;        // the mission ends (DONE) after this long; 0: never [s]
+  std::uint32_t seed = 1;            // the vacuum's random turns
+  VacuumConfig vacuum;
+
+  PurePursuitConfig sweep_pursuit;    // on the lanes (a short lookahead for the U-turns)
+  PurePursuitConfig transit_pursuit;  // between cells
+  PathTrackerConfig tracker;          // turning on the spot
+  WavefrontConfig planner;
+  std::uint32_t plan_expansions_per_tick = 2000;  // the planner's budget per tick [cells]
+  double block_lookahead_m = 0.6;        // an obstacle on the lane this far ahead cuts it [m]
+  double resume_clear_m = 0.4;           // a lane resumes where it is clear this far on [m]
+  double replan_lookahead_m = 3.0;       // an obstacle on a transit path this far ahead: replan [m]
+  double emergency_stop_m = 0.03;        // a lethal cell this close ahead of the body stops [m]
+  double backup_m = 0.2;                 // reversed after such a stop [m]
+  double backup_speed_mps = 0.1;         // [m/s]
+  std::uint32_t max_recoveries = 5;      // stops in a row before the target is given up [stops]
+  double turn_in_place_min_radps = 0.2;  // a lethal cell ahead while turning: turn in place
+  std::uint32_t max_cells = 256;         // decomposition cells the buffers hold [cells]
+  std::uint32_t max_lanes = 2048;        // lanes the buffers hold [lanes]
+
+  CoverageConfig();
+  Status validate() const;
+};
+
+class CoverageMission final : public Mission {
+ public:
+  static constexpr std::size_t kMaxRoute = 4096;      // waypoints of one cell's lanes
+  static constexpr std::size_t kMaxPathCells = 4096;  // cells of one transit path
+  static constexpr std::size_t kMaxWaypoints = 1024;  // waypoints of one transit path
+
+  // Builds the area, its decomposition and tour and the planner's buffers from the static map
+  // (init time). `pose` is the localised pose in the map frame; the costmap indexes its cells as
+  // floor(x / resolution) in the same frame. A failure is kept in init_status() and ends the
+  // mission at its first tick with no_coverage_area.
+  CoverageMission(const CoverageConfig& cfg, const Footprint& footprint, bool holonomic,
+                  const Topic<OdometryMsg>& pose, const CostmapView& costmap,
+                  const OccupancyGrid& static_map);
+
+  const char* name() const override { return "coverage"; }
+  void enter(const MissionContext& ctx) override;
+  void exit() override {}
+  MissionOutput update(const MissionContext& ctx) override;
+  MissionState state() const override;
+  const char* take_phase_change() override;
+  void counters(MissionCounters& out) const override;
+
+  enum class State : std::uint8_t {
+    Wait,
+    Plan,
+    Transit,
+    Sweep,
+    Spin,
+    Reverse,
+    Spiral,
+    BackUp,
+    Turn,
+    Forward,
+    Done,
+    Failed,
+  };
+  State current() const { return state_; }
+  // Why the mission cannot run (ok when it can).
+  const Status& init_status() const { return init_status_; }
+  // What it swept, on the static map's cells (mask: the reachable coverable cells).
+  const CoverageGrid& coverage() const { return coverage_; }
+  const CoverageArea& area() const { return area_; }
+  const Boustrophedon& decomposition() const { return bcd_; }
+  std::uint32_t bumps() const { return bumps_; }
+  std::uint32_t turns_left() const { return turns_left_; }
+  std::uint32_t turns_right() const { return turns_right_; }
+
+ private:
+  enum class Purpose : std::uint8_t { Initial, NextCell, Resume, Revisit };
+
+  void go(State s, const char* phase);
+  MissionOutput fail(Fault f);
+  std::size_t cell_index(int i, int j) const;
+  // systematic (CoverageSystematic.cpp)
+  MissionOutput start_plan(Purpose p, const Pose2& pose);
+  MissionOutput next_plan(Purpose p);  // planning starts at the next tick
+  void arrive(const Pose2& pose);
+  void finish_cell();
+  MissionOutput plan_step(const Pose2& pose);
+  MissionOutput planned(const Pose2& pose);
+  bool pick_next_cell(const Pose2& pose);
+  bool pick_resume(const Pose2& pose);
+  bool pick_revisit(const Pose2& pose);
+  std::int32_t reachable_anchor(std::size_t k, long& budget) const;
+  bool path_to(int ti, int tj, const Vec2& target);
+  MissionOutput transit(const Pose2& pose);
+  MissionOutput sweep(const Pose2& pose);
+  MissionOutput spin(const Pose2& pose);
+  MissionOutput reverse(const Pose2& pose);
+  MissionOutput emergency_stop(const Pose2& pose);
+  bool cut_lane(const Pose2& pose, const PathProjection& at);
+  bool blocked_at(const Vec2& p) const;
+  bool path_blocked_ahead(const Pose2& pose) const;
+  bool lethal_near(const Pose2& pose, double margin, bool forward) const;
+  CellVisit tour_visit(std::size_t k) const;
+  double swept_fraction(std::uint16_t cell) const;
+  // vacuum (CoverageMission.cpp)
+  MissionOutput vacuum(const MissionContext& ctx, const Pose2& pose);
+  bool bumped(const MissionContext& ctx, const Pose2& pose) const;
+  double uniform();
+
+  CoverageConfig cfg_;
+  Footprint footprint_;
+  PathTracker tracker_;
+  PurePursuitFollower sweep_follower_, transit_follower_;
+  const Topic<OdometryMsg>& pose_;
+  const CostmapView& costmap_;
+  const OccupancyGrid& map_;
+  Status init_status_;
+  bool accounting_ = false;  // the map is usable: the coverage grid counts
+  CoverageArea area_;
+  Boustrophedon bcd_;
+  CoverageGrid coverage_;
+  WavefrontPlanner planner_;
+  std::unique_ptr<std::uint8_t[]> base_costs_;  // the static area: 0 on centre cells, else lethal
+  std::unique_ptr<std::uint8_t[]> plan_costs_;  // base_costs_ overlaid with the costmap
+  std::unique_ptr<std::uint8_t[]> abandoned_;   // revisit targets already tried
+
+  State state_ = State::Wait;
+  const char* phase_ = "wait";
+  const char* phase_change_ = nullptr;
+  double now_s_ = 0.0, t0_s_ = -1.0,
+         state_t0_s_ = 0.0;  // this tick, the start, the state's start [s]
+  bool have_last_ = false;
+  Pose2 last_pose_;
+
+  // systematic
+  Purpose purpose_ = Purpose::Initial;
+  bool planning_ = false;  // the wavefront of this PLAN has been started
+  bool tour_reversed_ = false;
+  std::size_t tour_pos_ = 0;
+  CellVisit visit_;
+  StaticVector<Vec2, kMaxRoute> route_;
+  std::size_t sweep_from_ = 0;  // the route from here on is left to sweep
+  State after_transit_ = State::Sweep;
+  StaticVector<GridCell, kMaxPathCells> cells_;
+  StaticVector<Vec2, kMaxWaypoints> waypoints_;
+  std::uint32_t seen_updates_ = 0;
+  std::uint32_t stops_in_a_row_ = 0;
+  Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
+  double spun_rad_ = 0.0, spin_last_yaw_ = 0.0;
+  Vec2 spin_at_{0.0, 0.0};  // where the revisit turns [m]
+
+  // vacuum
+  std::uint32_t rng_ = 1;
+  double turn_s_ = 0.0, turn_dir_ = 1.0;
+
+  std::uint32_t cells_done_ = 0, lanes_ = 0, lanes_blocked_ = 0, revisits_ = 0, bumps_ = 0,
+                replans_ = 0, turns_left_ = 0, turns_right_ = 0;
+  Fault fault_ = Fault::None;
+};
+
+const char* coverage_state_name(CoverageMission::State s);
+
+}  // namespace carril::fw

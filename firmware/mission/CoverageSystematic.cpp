@@ -1,0 +1,486 @@
+// The coverage mission's systematic mode: planning on the static map and the costmap, transits,
+// sweeping the lanes, cutting a blocked lane, revisits. See CoverageMission.hpp.
+#include <algorithm>
+#include <cmath>
+
+#include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/CoverageMission.hpp"
+#include "firmware/planning/PathWaypoints.hpp"
+
+namespace carril::fw {
+
+namespace {
+const char* plan_phase(int purpose) {
+  static const char* const kNames[] = {"plan", "next_cell", "resume", "revisit"};
+  return kNames[purpose];
+}
+}  // namespace
+
+MissionOutput CoverageMission::next_plan(Purpose p) {
+  purpose_ = p;
+  planning_ = false;
+  go(State::Plan, plan_phase(int(p)));
+  return {};
+}
+
+MissionOutput CoverageMission::start_plan(Purpose p, const Pose2& pose) {
+  next_plan(p);
+  return plan_step(pose);
+}
+
+// One PLAN tick. The first lays the static area over the live costmap (the initial plan: the
+// static area alone, so a passing obstacle does not shrink the area for good) and seeds a
+// wavefront at the robot; the next ones expand it within the budget; the last picks the target
+// from its distances and extracts the path.
+MissionOutput CoverageMission::plan_step(const Pose2& pose) {
+  const int nx = map_.nx(), ny = map_.ny();
+  if (!planning_) {
+    const RollingGrid<std::uint8_t>& m = costmap_.master();
+    const bool live = purpose_ != Purpose::Initial && m.ready();
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t k = cell_index(i, j);
+        std::uint8_t c = base_costs_[k];
+        if (live && c != cost::kLethal) {
+          const Vec2 w = map_.centre(i, j);
+          int cx = 0, cy = 0;
+          if (m.world_to_cell(w.x(), w.y(), cx, cy)) {
+            const std::uint8_t mc = m.at(cx, cy);
+            if (mc == cost::kLethal || mc == cost::kInscribed) {
+              c = cost::kLethal;
+            } else if (cost::passable(mc)) {
+              c = std::max(c, mc);
+            }
+          }
+        }
+        plan_costs_[k] = c;
+      }
+    }
+    // The robot's cell, or (standing in inflation) the nearest passable one within 0.3 m.
+    int ri = 0, rj = 0;
+    map_.cell_of(pose.x, pose.y, ri, rj);
+    const int r = std::max(1, int(std::ceil(0.3 / map_.resolution())));
+    int si = -1, sj = -1, best = r * r + 1;
+    for (int dj = -r; dj <= r; ++dj) {
+      for (int di = -r; di <= r; ++di) {
+        const int i = ri + di, j = rj + dj;
+        if (!map_.contains(i, j) || di * di + dj * dj >= best) continue;
+        if (!cost::passable(plan_costs_[cell_index(i, j)])) continue;
+        best = di * di + dj * dj;
+        si = i;
+        sj = j;
+      }
+    }
+    if (si < 0 || planner_.start(plan_costs_.get(), nx, ny, si, sj) != WavefrontStatus::Running) {
+      return fail(Fault::NoPath);
+    }
+    planning_ = true;
+    return {};  // laying the costs and seeding are this tick's work
+  }
+  if (planner_.step(cfg_.plan_expansions_per_tick) == WavefrontStatus::Running) return {};
+  planning_ = false;
+  switch (purpose_) {
+    case Purpose::Initial: {
+      // The area the robot can reach; what is sealed off is no part of the job.
+      area_.keep_anchored([&](std::size_t a) {
+        return planner_.reachable(int(a % std::size_t(nx)), int(a / std::size_t(nx)));
+      });
+      coverage_.set_mask(area_.coverable());
+      if (area_.coverable_cells() == 0) return fail(Fault::NoPath);
+      if (cfg_.mode == CoverageMode::Vacuum) {
+        go(State::Spiral, "spiral");
+        return {};
+      }
+      // Drive the tour from the end nearer the robot.
+      const std::size_t n = bcd_.tour_size();
+      int i = 0, j = 0;
+      const Vec2 first = bcd_.entry_point(bcd_.tour()[0]);
+      const Vec2 last = bcd_.exit_point(bcd_.tour()[n - 1]);
+      map_.cell_of(first.x(), first.y(), i, j);
+      const float to_first = planner_.cost_to_goal(i, j);
+      map_.cell_of(last.x(), last.y(), i, j);
+      tour_reversed_ = planner_.cost_to_goal(i, j) < to_first;
+      tour_pos_ = 0;
+      return next_plan(Purpose::NextCell);
+    }
+    case Purpose::NextCell:
+      if (!pick_next_cell(pose)) return next_plan(Purpose::Revisit);
+      return {};
+    case Purpose::Resume:
+      if (!pick_resume(pose)) {
+        finish_cell();
+        return next_plan(Purpose::NextCell);
+      }
+      return {};
+    case Purpose::Revisit:
+      if (!pick_revisit(pose)) go(State::Done, "done");
+      return {};
+  }
+  return {};
+}
+
+CellVisit CoverageMission::tour_visit(std::size_t k) const {
+  const std::size_t n = bcd_.tour_size();
+  if (!tour_reversed_) return bcd_.tour()[k];
+  return bcd_.reversed(bcd_.tour()[n - 1 - k]);
+}
+
+// The next cell of the tour the robot can reach, entered at the corner nearest the robot by the
+// planner (where the robot stands now, which a cut lane or a skipped cell moves from where the
+// tour expected it).
+bool CoverageMission::pick_next_cell(const Pose2& pose) {
+  for (; tour_pos_ < bcd_.tour_size(); ++tour_pos_) {
+    const CellVisit v = tour_visit(tour_pos_);
+    if (swept_fraction(v.cell) >= cfg_.skip_swept_cell) {
+      ++cells_done_;  // the tool already passed over it from the lanes next to it
+      continue;
+    }
+    float best = WavefrontPlanner::kInfinity;
+    int bi = 0, bj = 0;
+    const std::uint8_t entries = bcd_.cell(v.cell).lanes > 1 ? 4 : 2;
+    for (std::uint8_t k = 0; k < entries; ++k) {
+      const CellVisit o{v.cell, k};
+      const Vec2 e = bcd_.entry_point(o);
+      int i = 0, j = 0;
+      map_.cell_of(e.x(), e.y(), i, j);
+      const float c = planner_.cost_to_goal(i, j);
+      if (c < best) {
+        best = c;
+        visit_ = o;
+        bi = i;
+        bj = j;
+      }
+    }
+    if (best >= WavefrontPlanner::kInfinity) continue;  // sealed off now: left to REVISIT
+    bcd_.route(visit_, route_);  // a route too long for the buffer is swept as far as it holds
+    sweep_from_ = 0;
+    after_transit_ = State::Sweep;
+    if (path_to(bi, bj, route_[0])) return true;
+  }
+  (void)pose;
+  return false;
+}
+
+// The fraction of a decomposition cell's cells the tool has passed over. O(its columns * ny):
+// the scans of one tick add up to the map's cells at most.
+double CoverageMission::swept_fraction(std::uint16_t cell) const {
+  const CoverCell& c = bcd_.cell(cell);
+  std::size_t swept = 0;
+  for (int x = c.x0; x <= c.x1; ++x) {
+    for (int y = 0; y < map_.ny(); ++y) {
+      if (bcd_.label(x, y) == cell && coverage_.count(x, y) > 0) ++swept;
+    }
+  }
+  return c.area == 0 ? 1.0 : double(swept) / double(c.area);
+}
+
+bool CoverageMission::pick_resume(const Pose2& pose) {
+  (void)pose;
+  const Vec2 q = route_[sweep_from_];
+  int i = 0, j = 0;
+  map_.cell_of(q.x(), q.y(), i, j);
+  if (!planner_.reachable(i, j)) return false;
+  after_transit_ = State::Sweep;
+  return path_to(i, j, q);
+}
+
+// The unswept cell whose anchor is nearest by the planner (each tried once). The target counts
+// what the robot can reach now: unswept cells whose anchors the costmap has sealed off (an
+// obstacle the map does not show stands there) are no part of it.
+bool CoverageMission::pick_revisit(const Pose2& pose) {
+  (void)pose;
+  if (revisits_ >= cfg_.max_revisits) return false;
+  const int nx = map_.nx();
+  float best = WavefrontPlanner::kInfinity;
+  std::size_t pick = 0, sealed = 0;
+  std::int32_t anchor = -1;
+  const std::uint8_t* coverable = area_.coverable();
+  const std::uint8_t* counts = coverage_.counts();
+  // Cells whose own anchor is sealed off look for another within the reach, within a budget
+  // (cells looked at) that bounds this tick.
+  long budget = long(area_.size());
+  for (std::size_t k = 0; k < area_.size(); ++k) {
+    if (coverable[k] == 0 || counts[k] != 0) continue;
+    std::int32_t a = area_.anchor(k);
+    float c = planner_.cost_to_goal(int(a % nx), int(a / nx));
+    if (c >= WavefrontPlanner::kInfinity && budget > 0) {
+      a = reachable_anchor(k, budget);
+      if (a >= 0) c = planner_.cost_to_goal(int(a % nx), int(a / nx));
+    }
+    if (c >= WavefrontPlanner::kInfinity) {
+      ++sealed;
+      continue;
+    }
+    if (abandoned_[k] == 0 && c < best) {
+      best = c;
+      pick = k;
+      anchor = a;
+    }
+  }
+  const std::size_t reachable = coverage_.mask_cells() - sealed;
+  if (reachable == 0 ||
+      double(coverage_.covered_cells()) >= cfg_.target_coverage * double(reachable)) {
+    return false;
+  }
+  if (anchor < 0) return false;
+  abandoned_[pick] = 1;
+  ++revisits_;
+  after_transit_ = State::Spin;
+  const int ai = int(anchor % nx), aj = int(anchor / nx);
+  spin_at_ = map_.centre(ai, aj);
+  if (!path_to(ai, aj, spin_at_)) next_plan(Purpose::Revisit);
+  return true;
+}
+
+// A cell the planner reached (from the robot) within the tool's reach of cell k, the nearest to
+// it; -1 when none. Each cell looked at costs one from `budget`.
+std::int32_t CoverageMission::reachable_anchor(std::size_t k, long& budget) const {
+  const int nx = map_.nx();
+  const int ci = int(k % std::size_t(nx)), cj = int(k / std::size_t(nx));
+  const double reach = area_.reach_m() / map_.resolution();
+  const int r = int(std::floor(reach));
+  const double r2 = reach * reach;
+  std::int32_t best = -1;
+  int best_d2 = 0;
+  for (int dj = -r; dj <= r; ++dj) {
+    for (int di = -r; di <= r; ++di) {
+      const int d2 = di * di + dj * dj;
+      if (d2 > r2 || (best >= 0 && d2 >= best_d2)) continue;
+      --budget;
+      if (!planner_.reachable(ci + di, cj + dj)) continue;
+      best = std::int32_t(cell_index(ci + di, cj + dj));
+      best_d2 = d2;
+    }
+  }
+  return best;
+}
+
+// The path from the robot (the wavefront's seed) to cell (ti, tj), ending on `target` [m].
+bool CoverageMission::path_to(int ti, int tj, const Vec2& target) {
+  if (planner_.extract_path(ti, tj, cells_) != PathResult::Ok) return false;
+  std::reverse(cells_.begin(), cells_.end());
+  const MapInfo& info = map_.info();
+  if (!cells_to_waypoints(cells_.begin(), cells_.size(), info.origin_x_m, info.origin_y_m,
+                          info.resolution_m, waypoints_)) {
+    return false;
+  }
+  if (waypoints_.size() < 2) waypoints_.push_back(target);
+  waypoints_.back() = target;
+  transit_follower_.reset();
+  seen_updates_ = costmap_.updates();
+  const Pose2 pose = pose_.get().pose;
+  if ((target - Vec2(pose.x, pose.y)).norm() < cfg_.transit_pursuit.goal_tolerance_m * 2.0) {
+    arrive(pose);
+  } else {
+    go(State::Transit, "transit");
+  }
+  return true;
+}
+
+void CoverageMission::arrive(const Pose2& pose) {
+  stops_in_a_row_ = 0;  // got there
+  if (after_transit_ == State::Spin) {
+    spun_rad_ = 0.0;
+    spin_last_yaw_ = pose.yaw;
+    go(State::Spin, "spin");
+    return;
+  }
+  sweep_follower_.reset();
+  go(State::Sweep, "sweep");
+}
+
+void CoverageMission::finish_cell() {
+  lanes_ += bcd_.cell(visit_.cell).lanes;
+  ++cells_done_;
+  ++tour_pos_;
+}
+
+// A lethal or inscribed costmap cell at p: the body standing there would touch something.
+bool CoverageMission::blocked_at(const Vec2& p) const {
+  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  int cx = 0, cy = 0;
+  if (!m.ready() || !m.world_to_cell(p.x(), p.y(), cx, cy)) return false;
+  const std::uint8_t c = m.at(cx, cy);
+  return c == cost::kLethal || c == cost::kInscribed;
+}
+
+bool CoverageMission::path_blocked_ahead(const Pose2& pose) const {
+  const double step = 0.5 * map_.resolution();
+  double left = cfg_.replan_lookahead_m;
+  Vec2 a(pose.x, pose.y);
+  for (std::size_t i = transit_follower_.progress() + 1; i < waypoints_.size() && left > 0.0; ++i) {
+    const Vec2 b = waypoints_[i];
+    const double len = (b - a).norm();
+    const int n = std::max(1, int(std::ceil(len / step)));
+    for (int k = 1; k <= n; ++k) {
+      const Vec2 p = a + (b - a) * (double(k) / n);
+      // The robot's own inflated cell does not count (it may stand in inflation).
+      if (blocked_at(p) && (p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) {
+        return true;
+      }
+    }
+    left -= len;
+    a = b;
+  }
+  return false;
+}
+
+MissionOutput CoverageMission::transit(const Pose2& pose) {
+  if (costmap_.updates() != seen_updates_) {
+    seen_updates_ = costmap_.updates();
+    if (path_blocked_ahead(pose)) {
+      ++replans_;
+      return start_plan(purpose_, pose);
+    }
+  }
+  MissionOutput out;
+  out.motion.twist = transit_follower_.update(pose, waypoints_.begin(), waypoints_.size());
+  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true)) {
+    if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
+      out.motion.twist.vx = 0.0;
+      return out;
+    }
+    return emergency_stop(pose);
+  }
+  if (transit_follower_.at_end()) arrive(pose);
+  return out;
+}
+
+// Stop, back off, plan again; after max_recoveries stops in a row the target is given up.
+MissionOutput CoverageMission::emergency_stop(const Pose2& pose) {
+  const Vec2 here(pose.x, pose.y);
+  if (stops_in_a_row_ > 0 && (here - last_stop_at_).norm() > 2.0 * cfg_.backup_m) {
+    stops_in_a_row_ = 0;
+  }
+  last_stop_at_ = here;
+  if (++stops_in_a_row_ > cfg_.max_recoveries) {
+    stops_in_a_row_ = 0;
+    if (purpose_ == Purpose::Revisit) return next_plan(Purpose::Revisit);
+    finish_cell();
+    return next_plan(Purpose::NextCell);
+  }
+  backup_from_ = here;
+  go(State::Reverse, "reverse");
+  return {};
+}
+
+MissionOutput CoverageMission::reverse(const Pose2& pose) {
+  const bool far_enough = (Vec2(pose.x, pose.y) - backup_from_).norm() >= cfg_.backup_m;
+  if (far_enough || lethal_near(pose, cfg_.emergency_stop_m, false)) {
+    ++replans_;
+    return next_plan(purpose_);
+  }
+  MissionOutput out;
+  out.motion.twist.vx = -cfg_.backup_speed_mps;
+  return out;
+}
+
+MissionOutput CoverageMission::sweep(const Pose2& pose) {
+  const Vec2* path = route_.begin() + sweep_from_;
+  const std::size_t n = route_.size() - sweep_from_;
+  MissionOutput out;
+  // An obstacle the map does not show on the lane ahead: cut the lane there.
+  const Vec2 here(pose.x, pose.y);
+  const PathProjection at = project_on_path(path, n, here, sweep_follower_.progress(), 2);
+  const double step = 0.5 * map_.resolution();
+  for (double s = step; s <= cfg_.block_lookahead_m; s += step) {
+    const Vec2 p = point_ahead(path, n, at, s);
+    if ((p - here).norm() > footprint_.half_width_m && blocked_at(p)) {
+      if (cut_lane(pose, at)) return start_plan(Purpose::Resume, pose);
+      finish_cell();
+      return start_plan(Purpose::NextCell, pose);
+    }
+  }
+  out.motion.twist = sweep_follower_.update(pose, path, n);
+  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true)) {
+    if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
+      out.motion.twist.vx = 0.0;
+      return out;
+    }
+    // Something touches the front the lane check missed: back off, then resume past it.
+    const bool resumes = cut_lane(pose, at);
+    if (!resumes) finish_cell();
+    purpose_ = resumes ? Purpose::Resume : Purpose::NextCell;
+    return emergency_stop(pose);
+  }
+  if (sweep_follower_.at_end()) {
+    finish_cell();
+    return next_plan(Purpose::NextCell);
+  }
+  return out;
+}
+
+// Past the blocked stretch ahead of projection `at`, the first point from which the lane runs
+// clear for resume_clear_m becomes the route's start (route_[k] moved onto it, k its segment).
+// false when the rest of the route is blocked.
+bool CoverageMission::cut_lane(const Pose2& pose, const PathProjection& at) {
+  (void)pose;
+  ++lanes_blocked_;
+  const double step = 0.5 * map_.resolution();
+  bool seen_block = false;
+  double clear_from = -1.0;
+  std::size_t seg = 0;
+  Vec2 q(0.0, 0.0);
+  double s = 0.0;
+  Vec2 a = at.point;
+  for (std::size_t i = sweep_from_ + at.segment + 1; i < route_.size(); ++i) {
+    const Vec2 b = route_[i];
+    const double len = (b - a).norm();
+    const int n = std::max(1, int(std::ceil(len / step)));
+    for (int k = 1; k <= n; ++k) {
+      const Vec2 p = a + (b - a) * (double(k) / n);
+      const double sp = s + len * k / n;
+      if (blocked_at(p)) {
+        seen_block = true;
+        clear_from = -1.0;
+        continue;
+      }
+      if (!seen_block) continue;
+      if (clear_from < 0.0) {
+        clear_from = sp;
+        seg = i - 1;
+        q = p;
+      }
+      if (sp - clear_from >= cfg_.resume_clear_m) {
+        route_[seg] = q;
+        sweep_from_ = seg;
+        return true;
+      }
+    }
+    s += len;
+    a = b;
+  }
+  if (seen_block && clear_from >= 0.0) {  // clear to the end, though shorter than resume_clear_m
+    route_[seg] = q;
+    sweep_from_ = seg;
+    return true;
+  }
+  return false;
+}
+
+MissionOutput CoverageMission::spin(const Pose2& pose) {
+  spun_rad_ += std::fabs(wrap_angle(pose.yaw - spin_last_yaw_));
+  spin_last_yaw_ = pose.yaw;
+  if (spun_rad_ >= cfg_.revisit_spin_rad) {
+    // What the turn did not reach round here is out of the tool's reach from where the robot
+    // can stand: not tried again.
+    const double res = map_.resolution();
+    const int r = int(std::ceil(cfg_.tool_width_m / res));
+    int ci = 0, cj = 0;
+    map_.cell_of(spin_at_.x(), spin_at_.y(), ci, cj);
+    for (int j = cj - r; j <= cj + r; ++j) {
+      for (int i = ci - r; i <= ci + r; ++i) {
+        if (!map_.contains(i, j) || coverage_.count(i, j) != 0) continue;
+        if ((map_.centre(i, j) - spin_at_).norm() <= cfg_.tool_width_m) {
+          abandoned_[cell_index(i, j)] = 1;
+        }
+      }
+    }
+    return next_plan(Purpose::Revisit);
+  }
+  MissionOutput out;
+  out.motion.twist.wz = cfg_.spin_rate_radps;
+  return out;
+}
+
+}  // namespace carril::fw

@@ -1,0 +1,400 @@
+// CoverageMission on a hand-made two-room map with a door, driven in a kinematic loop: the robot
+// moves exactly as commanded (a unicycle at 100 Hz) and its pose is fed back as the localised
+// pose; the costmap is the static map's walls inflated as the firmware does, plus, in one case,
+// an obstacle the static map does not show, revealed when the robot comes within lidar range.
+#include "firmware/mission/CoverageMission.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "firmware/mapping/CostValues.hpp"
+#include "tests/support/CountingAllocator.hpp"
+
+namespace carril::fw {
+namespace {
+
+constexpr double kRes = 0.05;
+constexpr int kNx = 124, kNy = 72;  // 6.2 x 3.6 m
+
+struct Box {
+  double x0, y0, x1, y1;  // [m]
+};
+
+// Two rooms, 0.1 m walls, a 0.9 m door in the wall between them.
+std::vector<std::uint8_t> two_rooms(const std::vector<Box>& extra = {}) {
+  std::vector<std::uint8_t> c(std::size_t(kNx * kNy), cost::kFree);
+  for (int j = 0; j < kNy; ++j) {
+    for (int i = 0; i < kNx; ++i) {
+      const double x = (i + 0.5) * kRes, y = (j + 0.5) * kRes;
+      bool wall = x < 0.1 || y < 0.1 || x > 6.1 || y > 3.5;
+      wall = wall || (x > 3.0 && x < 3.1 && !(y > 1.4 && y < 2.3));
+      for (const Box& b : extra) wall = wall || (x > b.x0 && x < b.x1 && y > b.y0 && y < b.y1);
+      if (wall) c[std::size_t(j * kNx + i)] = cost::kLethal;
+    }
+  }
+  return c;
+}
+
+MapInfo map_info() {
+  MapInfo info;
+  info.nx = kNx;
+  info.ny = kNy;
+  info.resolution_m = kRes;
+  return info;
+}
+
+// The master costmap: the lethal cells of a map inflated as the firmware does (inscribed within
+// 0.25 m, then 252 exp(-10 (d - 0.25)) out to 0.55 m).
+class TestCostmap final : public CostmapView {
+ public:
+  TestCostmap() {
+    master_.init(kNx + 6, kNy + 6, kRes, cost::kFree);
+    obstacles_.init(kNx + 6, kNy + 6, kRes, cost::kUnknown);
+    master_.move_origin(-3, -3);
+    obstacles_.move_origin(-3, -3);
+  }
+  const RollingGrid<std::uint8_t>& master() const override { return master_; }
+  const RollingGrid<std::uint8_t>& obstacles() const override { return obstacles_; }
+  std::uint32_t updates() const override { return updates_; }
+  void build(const std::vector<std::uint8_t>& cells) {
+    master_.clear();
+    constexpr int r = 11;
+    for (int j = 0; j < kNy; ++j) {
+      for (int i = 0; i < kNx; ++i) {
+        if (cells[std::size_t(j * kNx + i)] != cost::kLethal) continue;
+        for (int dj = -r; dj <= r; ++dj) {
+          for (int di = -r; di <= r; ++di) {
+            if (!master_.contains(i + di, j + dj)) continue;
+            std::uint8_t& m = master_.at(i + di, j + dj);
+            const double d = std::hypot(di, dj) * kRes;
+            std::uint8_t c = 0;
+            if (d == 0.0) {
+              c = cost::kLethal;
+            } else if (d <= 0.25 + 1e-9) {
+              c = cost::kInscribed;
+            } else if (d <= 0.55) {
+              c = static_cast<std::uint8_t>(252.0 * std::exp(-10.0 * (d - 0.25)));
+            }
+            if (c > m) m = c;
+          }
+        }
+      }
+    }
+    ++updates_;
+  }
+
+ private:
+  RollingGrid<std::uint8_t> master_, obstacles_;
+  std::uint32_t updates_ = 0;
+};
+
+struct Result {
+  double time_s = 0.0;
+  double path_m = 0.0;
+  int collisions = 0;           // ticks with a wall or obstacle cell under the body's circle
+  double min_obstacle_m = 1e9;  // robot centre to the hidden obstacle
+  bool backed_up_after_bump = false, turned_after_backup = false;
+  std::vector<double> update_us;  // update() times on this host (figures, not tests) [us]
+  double update_percentile(double q) const {
+    if (update_us.empty()) return 0.0;
+    std::vector<double> v = update_us;
+    const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size())));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+  }
+};
+
+struct Rig {
+  explicit Rig(CoverageMode mode, std::vector<Box> hidden = {}) : hidden_(std::move(hidden)) {
+    cfg.mode = mode;
+    static_cells = two_rooms();
+    EXPECT_TRUE(map.assign(map_info(), static_cells.data()).is_ok());
+    truth = two_rooms(hidden_);
+    costmap.build(static_cells);
+  }
+  CoverageConfig cfg;
+  std::vector<std::uint8_t> static_cells, truth;
+  OccupancyGrid map{std::size_t(kNx * kNy)};
+  Topic<OdometryMsg> pose_topic;
+  TestCostmap costmap;
+  std::unique_ptr<CoverageMission> mission;
+  MissionContext ctx;
+  Pose2 pose{0.6, 0.6, 0.0};
+  bool revealed = false;
+  bool count_allocations = false;
+  std::vector<Box> hidden_;
+  bool trace_ = std::getenv("COVERAGE_TRACE") != nullptr;
+
+  void start() {
+    mission = std::make_unique<CoverageMission>(cfg, Footprint{0.25, 0.25}, false, pose_topic,
+                                                costmap, map);
+    mission->enter(ctx);
+    if (trace_) {
+      const Boustrophedon& b = mission->decomposition();
+      for (std::size_t k = 0; k < b.cell_count(); ++k) {
+        const CoverCell& c = b.cell(k);
+        std::printf("  cell %zu: columns %d..%d, %u lanes, %u cells\n", k, c.x0, c.x1, c.lanes,
+                    c.area);
+      }
+    }
+  }
+  // True when a lethal cell of the true world lies within the body's inscribed circle (less
+  // half a cell of discretisation).
+  bool collides() const {
+    const int r = 5;
+    const int ci = int(std::floor(pose.x / kRes)), cj = int(std::floor(pose.y / kRes));
+    for (int dj = -r; dj <= r; ++dj) {
+      for (int di = -r; di <= r; ++di) {
+        const int i = ci + di, j = cj + dj;
+        if (i < 0 || j < 0 || i >= kNx || j >= kNy) continue;
+        if (truth[std::size_t(j * kNx + i)] != cost::kLethal) continue;
+        const double d = std::hypot((i + 0.5) * kRes - pose.x, (j + 0.5) * kRes - pose.y);
+        if (d < 0.25 - 0.5 * kRes) return true;
+      }
+    }
+    return false;
+  }
+  // Runs until the mission is done or failed or `seconds` pass.
+  Result run(double seconds) {
+    Result r;
+    CoverageMission::State prev = mission->current();
+    const int ticks = int(seconds * 100);
+    for (int k = 0; k < ticks; ++k) {
+      pose_topic.publish(OdometryMsg{pose, {}}, k);
+      ctx.t_s = k * 0.01;
+      ctx.dt_s = 0.01;
+      ctx.drives_ready = true;
+      if (count_allocations) test::alloc::begin_window();
+      const auto t0 = std::chrono::steady_clock::now();
+      const MissionOutput out = mission->update(ctx);
+      const double us =
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+      if (count_allocations) test::alloc::end_window();
+      r.update_us.push_back(us);
+      const CoverageMission::State now = mission->current();
+      if (prev == CoverageMission::State::Forward || prev == CoverageMission::State::Spiral) {
+        if (now == CoverageMission::State::BackUp) r.backed_up_after_bump = true;
+      }
+      if (prev == CoverageMission::State::BackUp && now == CoverageMission::State::Turn) {
+        r.turned_after_backup = true;
+      }
+      prev = now;
+      if (const char* ph = mission->take_phase_change(); ph != nullptr && trace_) {
+        std::printf("  %7.2f s %-8s %-10s (%.2f, %.2f, %.2f)\n", ctx.t_s, mission->state().name, ph,
+                    pose.x, pose.y, pose.yaw);
+      }
+      const MissionStatus s = mission->state().status;
+      if (s == MissionStatus::Done || s == MissionStatus::Failed) break;
+      const Twist& t = out.motion.twist;
+      pose.x += std::cos(pose.yaw) * t.vx * 0.01;
+      pose.y += std::sin(pose.yaw) * t.vx * 0.01;
+      pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
+      r.path_m += std::fabs(t.vx) * 0.01;
+      r.time_s = (k + 1) * 0.01;
+      if (collides()) {
+        ++r.collisions;
+        if (trace_)
+          std::printf("  collision %.2f s %s (%.3f, %.3f, %.2f) v %.2f w %.2f\n", ctx.t_s,
+                      mission->state().phase, pose.x, pose.y, pose.yaw, t.vx, t.wz);
+      }
+      for (const Box& b : hidden_) {
+        const double dx = std::fmax(0.0, std::fmax(b.x0 - pose.x, pose.x - b.x1));
+        const double dy = std::fmax(0.0, std::fmax(b.y0 - pose.y, pose.y - b.y1));
+        const double d = std::hypot(dx, dy);
+        r.min_obstacle_m = std::fmin(r.min_obstacle_m, d);
+        // The lidar sees it from 1.5 m: from then on the costmap shows it.
+        if (!revealed && d < 1.5) {
+          revealed = true;
+          costmap.build(truth);
+        }
+      }
+    }
+    return r;
+  }
+};
+
+// The reachable coverable cells of the true world (the hidden obstacle included) from the start.
+std::vector<std::uint8_t> reachable_truth(const Rig& rig) {
+  OccupancyGrid world(std::size_t(kNx * kNy));
+  EXPECT_TRUE(world.assign(map_info(), rig.truth.data()).is_ok());
+  CoverageArea area(std::size_t(kNx * kNy));
+  CoverageAreaConfig ac;
+  ac.tool_width_m = rig.cfg.tool_width_m;
+  EXPECT_TRUE(area.build(world, ac).is_ok());
+  EXPECT_TRUE(area.keep_component(int(0.6 / kRes), int(0.6 / kRes)));
+  return std::vector<std::uint8_t>(area.coverable(), area.coverable() + area.size());
+}
+
+double covered_of(const CoverageMission& m, const std::vector<std::uint8_t>& mask,
+                  std::size_t* cells = nullptr) {
+  std::size_t n = 0, covered = 0;
+  for (std::size_t k = 0; k < mask.size(); ++k) {
+    if (mask[k] == 0) continue;
+    ++n;
+    if (m.coverage().counts()[k] > 0) ++covered;
+  }
+  if (cells != nullptr) *cells = n;
+  return double(covered) / double(n);
+}
+
+// free area / (tool width x cruise speed) [s]
+double lower_bound_s(std::size_t cells, const CoverageConfig& cfg) {
+  return double(cells) * kRes * kRes / (cfg.tool_width_m * cfg.speed_mps);
+}
+
+void report(const char* what, const Rig& rig, const Result& r, double covered, double lb) {
+  MissionCounters c;
+  rig.mission->counters(c);
+  std::printf(
+      "%s: %s, covered %.1f %% in %.1f s (lower bound %.1f s, %.2fx), path %.1f m, "
+      "overlap %.1f %%, collisions %d, update p99.9 %.0f us (max %.0f us, preemption incl.);",
+      what, rig.mission->state().name, 100.0 * covered, r.time_s, lb, r.time_s / lb, r.path_m,
+      100.0 * rig.mission->coverage().overlap_fraction(), r.collisions, r.update_percentile(0.999),
+      r.update_percentile(1.0));
+  for (const MissionCounter& k : c) std::printf(" %s %u", k.name, k.value);
+  std::printf("\n");
+}
+
+TEST(CoverageMissionTest, SystematicCoversTheTwoRoomsAndEndsDone) {
+  Rig rig(CoverageMode::Systematic);
+  rig.start();
+  ASSERT_TRUE(rig.mission->init_status().is_ok()) << rig.mission->init_status().message();
+  const Result r = rig.run(600.0);
+  ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
+  std::size_t cells = 0;
+  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
+  report("systematic", rig, r, covered, lower_bound_s(cells, rig.cfg));
+  EXPECT_GE(covered, 0.95);
+  EXPECT_EQ(r.collisions, 0);
+  MissionCounters c;
+  rig.mission->counters(c);
+  EXPECT_GE(c[0].value, 3u);  // cells: both rooms and the door at least
+  EXPECT_EQ(c[2].value, 0u);  // no lane blocked
+}
+
+TEST(CoverageMissionTest, AnObstacleMissingFromTheMapIsDrivenRoundAndItsSurroundsSwept) {
+  Rig rig(CoverageMode::Systematic, {Box{1.4, 1.2, 1.8, 1.7}});
+  rig.start();
+  const Result r = rig.run(900.0);
+  ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
+  std::size_t cells = 0;
+  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
+  report("systematic, unmapped obstacle", rig, r, covered, lower_bound_s(cells, rig.cfg));
+  EXPECT_GE(covered, 0.95);
+  EXPECT_EQ(r.collisions, 0);
+  EXPECT_GT(r.min_obstacle_m, 0.25 - 0.5 * kRes);  // the body never reached it
+  MissionCounters c;
+  rig.mission->counters(c);
+  EXPECT_GE(c[2].value, 1u);  // lanes_blocked
+}
+
+TEST(CoverageMissionTest, VacuumBacksUpAndTurnsOnABumpBothWaysOverSeeds) {
+  std::uint32_t left = 0, right = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    Rig rig(CoverageMode::Vacuum);
+    rig.cfg.seed = seed;
+    rig.cfg.max_time_s = 60.0;
+    rig.start();
+    const Result r = rig.run(61.0);
+    EXPECT_TRUE(r.backed_up_after_bump) << "seed " << seed;
+    EXPECT_TRUE(r.turned_after_backup) << "seed " << seed;
+    EXPECT_GE(rig.mission->bumps(), 1u);
+    EXPECT_EQ(rig.mission->current(), CoverageMission::State::Done);  // max_time_s
+    EXPECT_EQ(r.collisions, 0) << "seed " << seed;
+    left += rig.mission->turns_left();
+    right += rig.mission->turns_right();
+  }
+  EXPECT_GT(left, 0u);
+  EXPECT_GT(right, 0u);
+}
+
+// The baseline's figures on the same map: covered within the systematic mode's time budget
+// (1.3x the lower bound) and within 3x.
+TEST(CoverageMissionTest, VacuumFiguresOnTheSameMap) {
+  Rig probe(CoverageMode::Systematic);
+  probe.start();
+  probe.run(0.5);  // the reachable area is known after the first plan
+  const std::vector<std::uint8_t> mask = reachable_truth(probe);
+  std::size_t cells = 0;
+  covered_of(*probe.mission, mask, &cells);
+  const double lb = lower_bound_s(cells, probe.cfg);
+  for (const double factor : {1.3, 3.0}) {
+    Rig rig(CoverageMode::Vacuum);
+    rig.cfg.max_time_s = factor * lb;
+    rig.start();
+    const Result r = rig.run(factor * lb + 1.0);
+    const double covered = covered_of(*rig.mission, mask);
+    report(factor < 2.0 ? "vacuum, 1.3x lower bound" : "vacuum, 3x lower bound", rig, r, covered,
+           lb);
+    EXPECT_EQ(r.collisions, 0);
+    EXPECT_GT(covered, 0.1);
+  }
+}
+
+TEST(CoverageMissionTest, UpdateDoesNotAllocate) {
+  Rig rig(CoverageMode::Systematic, {Box{1.4, 1.2, 1.8, 1.7}});
+  rig.start();
+  rig.count_allocations = true;
+  rig.run(400.0);
+  EXPECT_EQ(rig.mission->current(), CoverageMission::State::Done);
+  EXPECT_GT(rig.mission->coverage().covered_cells(), 1000u);
+  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+  Rig vac(CoverageMode::Vacuum);
+  vac.start();
+  vac.count_allocations = true;
+  vac.run(30.0);
+  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+}
+
+TEST(CoverageMissionTest, AMapWithNoFreeCellFailsWithAClearErrorAndAFault) {
+  Rig rig(CoverageMode::Systematic);
+  std::vector<std::uint8_t> walls(std::size_t(kNx * kNy), cost::kLethal);
+  ASSERT_TRUE(rig.map.assign(map_info(), walls.data()).is_ok());
+  rig.start();
+  const Status& s = rig.mission->init_status();
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(std::string(s.message()).find("no free cell"), std::string::npos) << s.message();
+  const Result r = rig.run(1.0);
+  (void)r;
+  EXPECT_EQ(rig.mission->state().status, MissionStatus::Failed);
+  MissionOutput out = rig.mission->update(rig.ctx);
+  EXPECT_EQ(out.fault, Fault::NoCoverageArea);
+  EXPECT_EQ(out.motion.twist.vx, 0.0);
+  EXPECT_EQ(out.motion.twist.wz, 0.0);
+
+  // No static map at all: the systematic mode cannot plan.
+  OccupancyGrid none;
+  Topic<OdometryMsg> pose;
+  TestCostmap costmap;
+  CoverageConfig cfg;
+  CoverageMission m(cfg, Footprint{0.25, 0.25}, false, pose, costmap, none);
+  EXPECT_NE(std::string(m.init_status().message()).find("no static map"), std::string::npos);
+}
+
+TEST(CoverageMissionTest, ARobotSealedOffFromTheAreaFailsWithNoPath) {
+  Rig rig(CoverageMode::Systematic);
+  // A polygon round the right room only, the door closed in the map: nothing reachable.
+  std::vector<std::uint8_t> closed = two_rooms({Box{3.0, 1.3, 3.1, 2.4}});
+  ASSERT_TRUE(rig.map.assign(map_info(), closed.data()).is_ok());
+  rig.costmap.build(closed);
+  rig.cfg.area.push_back(Vec2(3.1, 0.1));
+  rig.cfg.area.push_back(Vec2(6.1, 0.1));
+  rig.cfg.area.push_back(Vec2(6.1, 3.5));
+  rig.cfg.area.push_back(Vec2(3.1, 3.5));
+  rig.start();
+  ASSERT_TRUE(rig.mission->init_status().is_ok()) << rig.mission->init_status().message();
+  const Result r = rig.run(5.0);
+  (void)r;
+  EXPECT_EQ(rig.mission->state().status, MissionStatus::Failed);
+  EXPECT_EQ(rig.mission->update(rig.ctx).fault, Fault::NoPath);
+}
+
+}  // namespace
+}  // namespace carril::fw
