@@ -1,0 +1,180 @@
+// The phases of one Monte Carlo localisation update (MonteCarloLocalizer.hpp), each resumable:
+// weigh (motion + sensor model per particle), normalise (weights, mean), covariance, then, when
+// resampling is due, the alias table, the KLD count, the low-variance draw and the injection.
+#include <algorithm>
+#include <cmath>
+
+#include "firmware/estimation/MonteCarloLocalizer.hpp"
+
+namespace carril::fw {
+
+void MonteCarloLocalizer::weigh(long& units) {
+  const long cost = n_beams_ + kWeighExtraUnits;
+  const double inv_res = 1.0 / field_.resolution();
+  // Padded grid coordinates of a map point: x * inv_res + gx0 (LikelihoodField::log_p_padded).
+  const double gx0 = 1.0 - field_.origin_x() * inv_res, gy0 = 1.0 - field_.origin_y() * inv_res;
+  const float* bx = beam_x_.get();
+  const float* by = beam_y_.get();
+  const int nb = n_beams_;
+  const double inv_nb = 1.0 / double(nb);
+  while (cursor_ < n_ && units > 0) {
+    const int i = cursor_;
+    Particle& p = cur_[i];
+    if (moved_) p = OdometryMotionModel::sample(p, delta_, rng_);
+    const float c = float(std::cos(p.yaw)), s = float(std::sin(p.yaw));
+    const float gx = float(p.x * inv_res + gx0), gy = float(p.y * inv_res + gy0);
+    float ll = 0.0F;
+    for (int k = 0; k < nb; ++k) {
+      ll += field_.log_p_padded(gx + c * bx[k] - s * by[k], gy + s * bx[k] + c * by[k]);
+    }
+    cos_[i] = c;
+    sin_[i] = s;
+    const double lw = lw_[i] + double(temper_) * double(ll);
+    lw_[i] = lw;
+    lw_max_ = std::max(lw_max_, lw);
+    // Per-beam geometric mean likelihood: within the field's bounded log p, exp cannot overflow.
+    avg_sum_ += std::exp(double(ll) * inv_nb);
+    ++cursor_;
+    units -= cost;
+  }
+}
+
+void MonteCarloLocalizer::begin_sums() {
+  cursor_ = 0;
+  sum_w_ = sum_w2_ = sum_wx_ = sum_wy_ = sum_wc_ = sum_ws_ = 0.0;
+  sum_cov_.setZero();
+}
+
+void MonteCarloLocalizer::normalise(long& units) {
+  while (cursor_ < n_ && units > 0) {
+    const int i = cursor_;
+    const double l = lw_[i] - lw_max_;  // <= 0: exp only underflows
+    lw_[i] = l;
+    const double w = std::exp(l);
+    w_[i] = w;
+    sum_w_ += w;
+    sum_w2_ += w * w;
+    sum_wx_ += w * cur_[i].x;
+    sum_wy_ += w * cur_[i].y;
+    sum_wc_ += w * double(cos_[i]);
+    sum_ws_ += w * double(sin_[i]);
+    ++cursor_;
+    units -= kNormaliseUnits;
+  }
+}
+
+void MonteCarloLocalizer::take_mean() {
+  // sum_w_ >= 1: the heaviest particle has weight exp(0).
+  estimate_.x = sum_wx_ / sum_w_;
+  estimate_.y = sum_wy_ / sum_w_;
+  estimate_.yaw = std::atan2(sum_ws_, sum_wc_);
+  log_norm_ = std::log(sum_w_);
+  tel_.n_eff = sum_w_ * sum_w_ / sum_w2_;
+}
+
+void MonteCarloLocalizer::update_averages() {
+  const double w_avg = avg_sum_ / double(n_);
+  double& ws = tel_.w_slow;
+  double& wf = tel_.w_fast;
+  if (cfg_.alpha_slow <= 0.0) {
+    ws = wf = w_avg;
+    tel_.inject_probability = 0.0;
+    return;
+  }
+  if (ws <= 0.0) {  // first update after set_*
+    ws = wf = w_avg;
+  } else {
+    ws += cfg_.alpha_slow * (w_avg - ws);
+    wf += cfg_.alpha_fast * (w_avg - wf);
+  }
+  tel_.inject_probability = std::max(0.0, 1.0 - wf / ws);
+}
+
+void MonteCarloLocalizer::covariance_pass(long& units) {
+  const Vec3 m(estimate_.x, estimate_.y, estimate_.yaw);
+  while (cursor_ < n_ && units > 0) {
+    const int i = cursor_;
+    const Vec3 d(cur_[i].x - m.x(), cur_[i].y - m.y(), wrap_angle(cur_[i].yaw - m.z()));
+    sum_cov_.noalias() += w_[i] * (d * d.transpose());
+    ++cursor_;
+    units -= kCovarianceUnits;
+  }
+}
+
+void MonteCarloLocalizer::take_covariance() {
+  cov_ = sum_cov_ / sum_w_;
+}
+
+void MonteCarloLocalizer::finish_weighing() {
+  take_covariance();
+  estimate_odom_ = odom_;
+  estimate_has_odom_ = true;
+  ++tel_.updates;
+  if (++since_resample_ < cfg_.resample_interval) {
+    phase_ = Phase::Idle;
+    return;
+  }
+  since_resample_ = 0;
+  alias_.begin(w_.get(), n_, sum_w_);
+  phase_ = Phase::Alias;
+}
+
+bool MonteCarloLocalizer::bin_insert(const Particle& p) {
+  const auto bin = [](double v, double size) {
+    return int(std::floor(clampd(v / size, -1e6, 1e6)));
+  };
+  return bins_.insert(bin(p.x, cfg_.bin_xy_m), bin(p.y, cfg_.bin_xy_m),
+                      bin(p.yaw + kPi, cfg_.bin_yaw_rad));
+}
+
+void MonteCarloLocalizer::begin_count() {
+  bins_.clear();
+  n_new_ = 0;
+  n_inject_ = 0;
+  need_ = cfg_.min_particles;
+  phase_ = Phase::Count;
+}
+
+// Fox's KLD-sampling: i.i.d. draws (a random pose with the injection probability, else a
+// particle by weight) until the count reaches the bound for the bins they occupy.
+void MonteCarloLocalizer::count(long& units) {
+  const double p_inject = tel_.inject_probability;
+  while (units > 0) {
+    bool fresh = false;
+    if (p_inject > 0.0 && rng_.uniform() < p_inject) {
+      fresh = bin_insert(random_free_pose());
+      ++n_inject_;
+    } else {
+      fresh = bin_insert(cur_[alias_.draw(rng_)]);
+    }
+    if (fresh) {
+      need_ = kld_particles(bins_.size(), cfg_.kld_err, cfg_.kld_z, cfg_.min_particles,
+                            cfg_.max_particles);
+    }
+    ++n_new_;
+    units -= kCountUnits;
+    if (n_new_ >= need_ || n_new_ >= cfg_.max_particles) {
+      const int n_sys = n_new_ - n_inject_;
+      if (n_sys > 0) {
+        resampler_.begin(w_.get(), n_, sum_w_, n_sys, rng_.uniform());
+        phase_ = Phase::Resample;
+      } else {
+        cursor_ = 0;
+        phase_ = Phase::Inject;
+      }
+      return;
+    }
+  }
+}
+
+void MonteCarloLocalizer::finish_resampling() {
+  std::swap(cur_, next_);
+  n_ = n_new_;
+  log_norm_ = std::log(double(n_));
+  ++tel_.resamples;
+  tel_.injected += std::uint64_t(n_inject_);
+  tel_.last_injected = n_inject_;
+  phase_ = Phase::Idle;
+}
+
+}  // namespace carril::fw

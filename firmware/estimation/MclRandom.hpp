@@ -1,0 +1,109 @@
+#pragma once
+// The localiser's random numbers: xoshiro256** (Blackman and Vigna) seeded through splitmix64,
+// with uniform and Gaussian draws built from integer operations, IEEE basic arithmetic and sqrt
+// only (no std:: distributions, whose output is implementation-defined, and no libm log), so a
+// seed gives the same stream bit for bit on x86_64 and aarch64 (the build does not contract
+// a * b + c into FMA: -std=c++20 sets -ffp-contract=off).
+#include <cmath>
+#include <cstdint>
+
+namespace carril::fw {
+
+// Natural logarithm of x > 0 (finite), from frexp and the atanh series: within 2 ulp of log(x),
+// and the same bits on every IEEE-754 machine (libm's log may differ in the last bit).
+inline double portable_log(double x) {
+  int e = 0;
+  double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+  if (m < 0.70710678118654752440) {
+    m *= 2.0;
+    e -= 1;
+  }
+  // log(m) = 2 atanh(z), z = (m - 1) / (m + 1), |z| <= 0.1716: 11 terms reach 1e-17.
+  const double z = (m - 1.0) / (m + 1.0);
+  const double z2 = z * z;
+  double s = 1.0 / 23.0;
+  for (int k = 21; k >= 1; k -= 2) s = s * z2 + 1.0 / double(k);
+  constexpr double kLn2Hi = 6.93147180369123816490e-01;  // ln 2 split for an exact e * hi
+  constexpr double kLn2Lo = 1.90821492927058770002e-10;
+  const double de = double(e);
+  return de * kLn2Hi + (de * kLn2Lo + 2.0 * z * s);
+}
+
+class MclRng {
+ public:
+  explicit MclRng(std::uint64_t seed = 1) { reseed(seed); }
+
+  // Restarts the stream from a seed (any value, 0 included).
+  void reseed(std::uint64_t seed) {
+    std::uint64_t x = seed;
+    for (auto& w : s_) w = splitmix64(x);
+    has_spare_ = false;
+  }
+
+  // Next 64 random bits (xoshiro256**).
+  std::uint64_t next() {
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+  }
+
+  // Uniform in [0, 1), 53 random bits.
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+  // Uniform in [lo, hi).
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+  // Uniform integer in [0, n), n >= 1, without bias (Lemire's multiply-and-reject).
+  std::uint32_t below(std::uint32_t n) {
+    std::uint64_t m = std::uint64_t(std::uint32_t(next() >> 32)) * n;
+    std::uint32_t low = std::uint32_t(m);
+    if (low < n) {
+      const std::uint32_t threshold = std::uint32_t(-n) % n;
+      while (low < threshold) {
+        m = std::uint64_t(std::uint32_t(next() >> 32)) * n;
+        low = std::uint32_t(m);
+      }
+    }
+    return std::uint32_t(m >> 32);
+  }
+
+  // Standard normal (Marsaglia's polar method; the second value of each pair is kept).
+  double gaussian() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u = 0.0, v = 0.0, s = 0.0;
+    do {
+      u = 2.0 * uniform() - 1.0;
+      v = 2.0 * uniform() - 1.0;
+      s = u * u + v * v;
+    } while (s >= 1.0 || s == 0.0);
+    const double f = std::sqrt(-2.0 * portable_log(s) / s);
+    spare_ = v * f;
+    has_spare_ = true;
+    return u * f;
+  }
+  // Normal with standard deviation sd [any unit].
+  double gaussian(double sd) { return sd * gaussian(); }
+
+ private:
+  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+  static std::uint64_t splitmix64(std::uint64_t& x) {
+    std::uint64_t z = (x += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+
+  std::uint64_t s_[4] = {};
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
+}  // namespace carril::fw
