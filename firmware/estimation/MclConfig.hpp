@@ -27,7 +27,7 @@ struct MclConfig {
   // The joint log-likelihood of a scan is the sum over its n beams times
   // 1 / (1 + (n - 1) beam_correlation): beams whose errors are correlated (the same wall, the
   // same map error) count as fewer independent ones. 0 = independent beams (plain sum).
-  double beam_correlation = 0.1;
+  double beam_correlation = 0.2;
   // KLD-sampling (KldSampling.hpp).
   double kld_err = 0.01;                  // bound on the KL divergence
   double kld_z = 0.99;                    // standard normal quantile z_(1 - delta), as AMCL's

@@ -33,7 +33,7 @@ void MonteCarloLocalizer::weigh(long& units) {
     lw_[i] = lw;
     lw_max_ = std::max(lw_max_, lw);
     // Per-beam geometric mean likelihood: within the field's bounded log p, exp cannot overflow.
-    avg_sum_ += std::exp(double(ll) * inv_nb);
+    fit_[i] = float(std::exp(double(ll) * inv_nb));
     ++cursor_;
     units -= cost;
   }
@@ -41,7 +41,7 @@ void MonteCarloLocalizer::weigh(long& units) {
 
 void MonteCarloLocalizer::begin_sums() {
   cursor_ = 0;
-  sum_w_ = sum_w2_ = sum_wx_ = sum_wy_ = sum_wc_ = sum_ws_ = 0.0;
+  sum_w_ = sum_w2_ = sum_wx_ = sum_wy_ = sum_wc_ = sum_ws_ = sum_wfit_ = 0.0;
   sum_cov_.setZero();
 }
 
@@ -58,6 +58,7 @@ void MonteCarloLocalizer::normalise(long& units) {
     sum_wy_ += w * cur_[i].y;
     sum_wc_ += w * double(cos_[i]);
     sum_ws_ += w * double(sin_[i]);
+    sum_wfit_ += w * double(fit_[i]);
     ++cursor_;
     units -= kNormaliseUnits;
   }
@@ -73,21 +74,26 @@ void MonteCarloLocalizer::take_mean() {
 }
 
 void MonteCarloLocalizer::update_averages() {
-  const double w_avg = avg_sum_ / double(n_);
-  double& ws = tel_.w_slow;
-  double& wf = tel_.w_fast;
+  // The fit of the posterior: its weighted mean of the per-beam likelihood. The book's w_avg
+  // (the plain mean over the predicted particles) falls with the prediction's spread and with
+  // the injected particles themselves, so injection breeds injection; AMCL stops that spiral by
+  // resetting both averages after every injection, which also stops a recovery under way.
+  const double w_avg = sum_wfit_ / sum_w_;
   if (cfg_.alpha_slow <= 0.0) {
-    ws = wf = w_avg;
+    tel_.w_slow = tel_.w_fast = w_avg;
     tel_.inject_probability = 0.0;
     return;
   }
-  if (ws <= 0.0) {  // first update after set_*
-    ws = wf = w_avg;
-  } else {
-    ws += cfg_.alpha_slow * (w_avg - ws);
-    wf += cfg_.alpha_fast * (w_avg - wf);
-  }
-  tel_.inject_probability = std::max(0.0, 1.0 - wf / ws);
+  // Exponential averages from 0, as the book's, divided by 1 - (1 - alpha)^t (Adam's bias
+  // correction): early on each is the mean of the updates so far, so the first update (a tight
+  // spread that fits unusually well) does not set w_slow for the next 1 / alpha_slow updates.
+  ws_raw_ += cfg_.alpha_slow * (w_avg - ws_raw_);
+  wf_raw_ += cfg_.alpha_fast * (w_avg - wf_raw_);
+  decay_slow_ *= 1.0 - cfg_.alpha_slow;
+  decay_fast_ *= 1.0 - cfg_.alpha_fast;
+  tel_.w_slow = ws_raw_ / (1.0 - decay_slow_);
+  tel_.w_fast = wf_raw_ / (1.0 - decay_fast_);
+  tel_.inject_probability = std::max(0.0, 1.0 - tel_.w_fast / tel_.w_slow);
 }
 
 void MonteCarloLocalizer::covariance_pass(long& units) {

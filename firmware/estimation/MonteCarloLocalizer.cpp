@@ -44,6 +44,7 @@ MonteCarloLocalizer::MonteCarloLocalizer(const MclConfig& cfg, const OccupancyGr
   w_ = std::make_unique<double[]>(n);
   cos_ = std::make_unique<float[]>(n);
   sin_ = std::make_unique<float[]>(n);
+  fit_ = std::make_unique<float[]>(n);
   bins_ = BinSet(cfg.max_particles);
   alias_ = AliasTable(cfg.max_particles);
   valid_ = std::make_unique<std::uint16_t[]>(std::size_t(hal::kMaxScanBeams));
@@ -89,6 +90,7 @@ void MonteCarloLocalizer::reset_spread() {
     lw_[i] = 0.0;
     cos_[i] = float(std::cos(cur_[i].yaw));
     sin_[i] = float(std::sin(cur_[i].yaw));
+    fit_[i] = 0.0F;
   }
   lw_max_ = 0.0;
   begin_sums();
@@ -103,6 +105,8 @@ void MonteCarloLocalizer::reset_spread() {
   estimate_has_odom_ = false;
   since_resample_ = 0;
   tel_.w_slow = tel_.w_fast = 0.0;
+  ws_raw_ = wf_raw_ = 0.0;
+  decay_slow_ = decay_fast_ = 1.0;
   tel_.inject_probability = 0.0;
 }
 
@@ -150,7 +154,6 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
   have_odom_ = true;
   tel_.beams_used = n_beams_;
   lw_max_ = -1e300;
-  avg_sum_ = 0.0;
   cursor_ = 0;
   phase_ = Phase::Weigh;
   return true;

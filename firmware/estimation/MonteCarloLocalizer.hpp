@@ -11,10 +11,13 @@
 //   - low-variance resampling (Resampling.hpp, linear), its count chosen by KLD-sampling
 //     (KldSampling.hpp: Fox's sequential bound on i.i.d. draws from an alias table; the set that
 //     is kept is then drawn low-variance with that count),
-//   - augmented MCL (table 8.3): w_slow and w_fast track the average measurement likelihood, and
+//   - augmented MCL (table 8.3): w_slow and w_fast average how well the scans are explained, and
 //     a fraction max(0, 1 - w_fast / w_slow) of the new set is drawn uniformly over free space.
-//     The average is the per-beam geometric mean likelihood, so it does not depend on the beam
-//     count, and the two averages are never reset (AMCL resets them after each injection).
+//     What is averaged is the posterior's weighted mean of the per-beam (geometric mean)
+//     likelihood: independent of the beam count, and not dragged down by the injected particles
+//     themselves (the book's plain mean is, which feeds more injection; AMCL resets both averages
+//     after each injection to stop that, which also stalls a recovery). The averages are
+//     bias-corrected (MclPhases.cpp) and never reset but by set_*.
 //
 // Everything is allocated in the constructor. An update is begun with a scan (begin_update:
 // cheap, selects the beams) and carried out by step() calls, each doing a bounded amount of work
@@ -158,7 +161,8 @@ class MonteCarloLocalizer {
   std::unique_ptr<double[]> w_;   // exp(lw), the resampler's input
   std::unique_ptr<float[]> cos_;  // cos and sin of each particle's yaw, from weighing
   std::unique_ptr<float[]> sin_;
-  double log_norm_ = 0.0;  // log of the sum of exp(lw)
+  std::unique_ptr<float[]> fit_;  // per-beam geometric mean likelihood, latest weighing [1/m]
+  double log_norm_ = 0.0;         // log of the sum of exp(lw)
 
   // Free cells of the map, for uniform draws.
   std::unique_ptr<std::uint32_t[]> free_;
@@ -176,10 +180,12 @@ class MonteCarloLocalizer {
   Pose2 odom_;              // odometry pose of the update under way (or the last one)
   bool have_odom_ = false;  // false until the first update after construction or set_*
   double lw_max_ = 0.0;
-  double avg_sum_ = 0.0;  // sum over particles of the per-beam geometric mean likelihood
-  double sum_w_ = 0.0, sum_w2_ = 0.0, sum_wx_ = 0.0, sum_wy_ = 0.0, sum_wc_ = 0.0, sum_ws_ = 0.0;
+  double sum_w_ = 0.0, sum_w2_ = 0.0, sum_wx_ = 0.0, sum_wy_ = 0.0, sum_wc_ = 0.0, sum_ws_ = 0.0,
+         sum_wfit_ = 0.0;
   Mat3 sum_cov_ = Mat3::Zero();
   int since_resample_ = 0;
+  // Augmented MCL's averages before their bias correction, and (1 - alpha)^updates.
+  double ws_raw_ = 0.0, wf_raw_ = 0.0, decay_slow_ = 1.0, decay_fast_ = 1.0;
   // Resampling under way.
   int n_new_ = 0, n_inject_ = 0, need_ = 0;
 
