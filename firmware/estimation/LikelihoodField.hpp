@@ -11,6 +11,7 @@
 // their distance like free ones, as AMCL's map does; a point off the map counts as max_dist.
 // The table has a one-cell border holding the max_dist value, so a lookup clamps its grid
 // coordinates into the border and reads one float: no branch.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -51,9 +52,29 @@ class LikelihoodField {
   // log p(d) [log(1/m)] at padded grid coordinates: gx = (x - origin_x) / resolution + 1, the
   // same for y (the + 1 skips the border). Any finite value is fine: it is clamped to the border.
   float log_p_padded(float gx, float gy) const {
-    gx = gx < 0.0F ? 0.0F : (gx > max_gx_ ? max_gx_ : gx);
-    gy = gy < 0.0F ? 0.0F : (gy > max_gy_ ? max_gy_ : gy);
+    // std::max against a member, not a literal 0: GCC then emits maxss (no branch).
+    gx = std::min(std::max(zero_, gx), max_gx_);
+    gy = std::min(std::max(zero_, gy), max_gy_);
     return table_[std::size_t(int(gy)) * stride_ + std::size_t(int(gx))];
+  }
+  // The sum of log p over n beam endpoints (bx[k], by[k]) [cells, robot frame] for a robot at
+  // padded grid coordinates (gx, gy) heading (c, s) = (cos, sin) of its yaw: the sensor model's
+  // whole per-particle work. Four running sums, so the additions do not wait on each other.
+  float sum_log_p(float gx, float gy, float c, float s, const float* bx, const float* by,
+                  int n) const {
+    float acc0 = 0.0F, acc1 = 0.0F, acc2 = 0.0F, acc3 = 0.0F;
+    const auto at = [&](int k) {
+      return log_p_padded(gx + c * bx[k] - s * by[k], gy + s * bx[k] + c * by[k]);
+    };
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+      acc0 += at(k);
+      acc1 += at(k + 1);
+      acc2 += at(k + 2);
+      acc3 += at(k + 3);
+    }
+    for (; k < n; ++k) acc0 += at(k);
+    return (acc0 + acc1) + (acc2 + acc3);
   }
   // log p(d) at a world point [m].
   float log_p(double x, double y) const {
@@ -77,6 +98,7 @@ class LikelihoodField {
   double res_ = 0.05, inv_res_ = 20.0, ox_ = 0.0, oy_ = 0.0;
   double max_dist_ = 0.0;  // [m], after the cut to kMaxDistCells
   float max_gx_ = 0.0F, max_gy_ = 0.0F;
+  float zero_ = 0.0F;
   std::unique_ptr<float[]> table_;       // (nx + 2) x (ny + 2), border = max_dist
   std::unique_ptr<std::uint16_t[]> d2_;  // nx x ny squared distances [cells^2], clamped
 };

@@ -21,19 +21,17 @@ void MonteCarloLocalizer::weigh(long& units) {
     const int i = cursor_;
     Particle& p = cur_[i];
     if (moved_) p = OdometryMotionModel::sample(p, delta_, rng_);
-    const float c = float(std::cos(p.yaw)), s = float(std::sin(p.yaw));
+    double sd = 0.0, cd = 0.0;
+    fast_sincos(p.yaw, sd, cd);
+    const float c = float(cd), s = float(sd);
     const float gx = float(p.x * inv_res + gx0), gy = float(p.y * inv_res + gy0);
-    float ll = 0.0F;
-    for (int k = 0; k < nb; ++k) {
-      ll += field_.log_p_padded(gx + c * bx[k] - s * by[k], gy + s * bx[k] + c * by[k]);
-    }
+    const float ll = field_.sum_log_p(gx, gy, c, s, bx, by, nb);
     cos_[i] = c;
     sin_[i] = s;
     const double lw = lw_[i] + double(temper_) * double(ll);
     lw_[i] = lw;
     lw_max_ = std::max(lw_max_, lw);
-    // Per-beam geometric mean likelihood: within the field's bounded log p, exp cannot overflow.
-    fit_[i] = float(std::exp(double(ll) * inv_nb));
+    fit_[i] = float(double(ll) * inv_nb);
     ++cursor_;
     units -= cost;
   }
@@ -74,11 +72,12 @@ void MonteCarloLocalizer::take_mean() {
 }
 
 void MonteCarloLocalizer::update_averages() {
-  // The fit of the posterior: its weighted mean of the per-beam likelihood. The book's w_avg
-  // (the plain mean over the predicted particles) falls with the prediction's spread and with
-  // the injected particles themselves, so injection breeds injection; AMCL stops that spiral by
-  // resetting both averages after every injection, which also stops a recovery under way.
-  const double w_avg = sum_wfit_ / sum_w_;
+  // The fit of the posterior: the per-beam likelihood, as the exp of the posterior's weighted
+  // mean of the per-beam log-likelihood (bounded by the field's log p: no overflow). The book's
+  // w_avg (the plain mean over the predicted particles) falls with the prediction's spread and
+  // with the injected particles themselves, so injection breeds injection; AMCL stops that
+  // spiral by resetting both averages after every injection, which also stalls a recovery.
+  const double w_avg = std::exp(sum_wfit_ / sum_w_);
   if (cfg_.alpha_slow <= 0.0) {
     tel_.w_slow = tel_.w_fast = w_avg;
     tel_.inject_probability = 0.0;
@@ -126,11 +125,14 @@ void MonteCarloLocalizer::finish_weighing() {
 }
 
 bool MonteCarloLocalizer::bin_insert(const Particle& p) {
-  const auto bin = [](double v, double size) {
-    return int(std::floor(clampd(v / size, -1e6, 1e6)));
+  // floor(v) as int(v + 2^20) - 2^20: truncation is floor for the positive sum, and the clamp
+  // keeps any particle, however far off, in range.
+  const auto bin = [](double v) {
+    constexpr double kOff = 1048576.0;
+    return int(clampd(v, -1e6, 1e6) + kOff) - int(kOff);
   };
-  return bins_.insert(bin(p.x, cfg_.bin_xy_m), bin(p.y, cfg_.bin_xy_m),
-                      bin(p.yaw + kPi, cfg_.bin_yaw_rad));
+  return bins_.insert(bin(p.x * inv_bin_xy_), bin(p.y * inv_bin_xy_),
+                      bin((p.yaw + kPi) * inv_bin_yaw_));
 }
 
 void MonteCarloLocalizer::begin_count() {

@@ -7,27 +7,9 @@
 #include <cmath>
 #include <cstdint>
 
-namespace carril::fw {
+#include "firmware/estimation/MclMath.hpp"
 
-// Natural logarithm of x > 0 (finite), from frexp and the atanh series: within 2 ulp of log(x),
-// and the same bits on every IEEE-754 machine (libm's log may differ in the last bit).
-inline double portable_log(double x) {
-  int e = 0;
-  double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
-  if (m < 0.70710678118654752440) {
-    m *= 2.0;
-    e -= 1;
-  }
-  // log(m) = 2 atanh(z), z = (m - 1) / (m + 1), |z| <= 0.1716: 11 terms reach 1e-17.
-  const double z = (m - 1.0) / (m + 1.0);
-  const double z2 = z * z;
-  double s = 1.0 / 23.0;
-  for (int k = 21; k >= 1; k -= 2) s = s * z2 + 1.0 / double(k);
-  constexpr double kLn2Hi = 6.93147180369123816490e-01;  // ln 2 split for an exact e * hi
-  constexpr double kLn2Lo = 1.90821492927058770002e-10;
-  const double de = double(e);
-  return de * kLn2Hi + (de * kLn2Lo + 2.0 * z * s);
-}
+namespace carril::fw {
 
 class MclRng {
  public:
@@ -72,7 +54,9 @@ class MclRng {
     return std::uint32_t(m >> 32);
   }
 
-  // Standard normal (Marsaglia's polar method; the second value of each pair is kept).
+  // Standard normal (Marsaglia's polar method; the second value of each pair is kept). The point
+  // in the square takes its two coordinates from one 64-bit draw (32 bits each: the noise needs
+  // no more).
   double gaussian() {
     if (has_spare_) {
       has_spare_ = false;
@@ -80,8 +64,9 @@ class MclRng {
     }
     double u = 0.0, v = 0.0, s = 0.0;
     do {
-      u = 2.0 * uniform() - 1.0;
-      v = 2.0 * uniform() - 1.0;
+      const std::uint64_t r = next();
+      u = double(std::int32_t(std::uint32_t(r))) * 0x1.0p-31;  // [-1, 1)
+      v = double(std::int32_t(std::uint32_t(r >> 32))) * 0x1.0p-31;
       s = u * u + v * v;
     } while (s >= 1.0 || s == 0.0);
     const double f = std::sqrt(-2.0 * portable_log(s) / s);

@@ -30,6 +30,8 @@ MonteCarloLocalizer::MonteCarloLocalizer(const MclConfig& cfg, const OccupancyGr
     return;
   }
   field_ = LikelihoodField(cfg.field(), map);
+  inv_bin_xy_ = 1.0 / cfg.bin_xy_m;
+  inv_bin_yaw_ = 1.0 / cfg.bin_yaw_rad;
   free_ = std::make_unique<std::uint32_t[]>(n_free_);
   for (std::size_t k = 0, f = 0; k < cells; ++k) {
     if (map.data()[k] == cost::kFree) free_[f++] = std::uint32_t(k);
@@ -88,8 +90,10 @@ void MonteCarloLocalizer::reset_spread() {
   n_ = cfg_.max_particles;
   for (int i = 0; i < n_; ++i) {
     lw_[i] = 0.0;
-    cos_[i] = float(std::cos(cur_[i].yaw));
-    sin_[i] = float(std::sin(cur_[i].yaw));
+    double s = 0.0, c = 0.0;
+    fast_sincos(cur_[i].yaw, s, c);
+    cos_[i] = float(c);
+    sin_[i] = float(s);
     fit_[i] = 0.0F;
   }
   lw_max_ = 0.0;

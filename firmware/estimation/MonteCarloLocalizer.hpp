@@ -161,7 +161,7 @@ class MonteCarloLocalizer {
   std::unique_ptr<double[]> w_;   // exp(lw), the resampler's input
   std::unique_ptr<float[]> cos_;  // cos and sin of each particle's yaw, from weighing
   std::unique_ptr<float[]> sin_;
-  std::unique_ptr<float[]> fit_;  // per-beam geometric mean likelihood, latest weighing [1/m]
+  std::unique_ptr<float[]> fit_;  // mean log p per beam, latest weighing [log(1/m)]
   double log_norm_ = 0.0;         // log of the sum of exp(lw)
 
   // Free cells of the map, for uniform draws.
@@ -184,6 +184,7 @@ class MonteCarloLocalizer {
          sum_wfit_ = 0.0;
   Mat3 sum_cov_ = Mat3::Zero();
   int since_resample_ = 0;
+  double inv_bin_xy_ = 1.0, inv_bin_yaw_ = 1.0;  // 1 / KLD bin sizes [1/m, 1/rad]
   // Augmented MCL's averages before their bias correction, and (1 - alpha)^updates.
   double ws_raw_ = 0.0, wf_raw_ = 0.0, decay_slow_ = 1.0, decay_fast_ = 1.0;
   // Resampling under way.

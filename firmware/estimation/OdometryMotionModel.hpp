@@ -13,6 +13,7 @@
 // the rotation noise of a 90 deg turn: conservative, fine for the differential and skid-steer
 // robots this targets.
 #include "firmware/core/Geometry.hpp"
+#include "firmware/estimation/MclMath.hpp"
 #include "firmware/estimation/MclRandom.hpp"
 
 namespace carril::fw {
@@ -43,7 +44,9 @@ class OdometryMotionModel {
     const double t = d.trans - d.sd_trans * rng.gaussian();
     const double r2 = d.rot2 - d.sd_rot2 * rng.gaussian();
     const double heading = p.yaw + r1;
-    return {p.x + t * std::cos(heading), p.y + t * std::sin(heading), wrap_angle(heading + r2)};
+    double s = 0.0, c = 0.0;
+    fast_sincos(heading, s, c);
+    return {p.x + t * c, p.y + t * s, wrap_angle(heading + r2)};
   }
 
   const OdometryNoise& noise() const { return noise_; }

