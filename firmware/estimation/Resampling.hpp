@@ -30,12 +30,12 @@ class LowVarianceResampler {
     int used = 0;
     while (j_ < n_out_ && used < budget) {
       const double target = offset_ + double(j_) * step_;
-      while (target >= cum_ && i_ < n_in_ - 1) {  // round-off may leave cum_ short of total
+      if (target >= cum_ && i_ < n_in_ - 1) {  // round-off may leave cum_ short of total
         cum_ += w_[++i_];
-        ++used;
+      } else {
+        out(j_, i_);
+        ++j_;
       }
-      out(j_, i_);
-      ++j_;
       ++used;
     }
     return used;

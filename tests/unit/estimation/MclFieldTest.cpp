@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "firmware/estimation/LikelihoodField.hpp"
+#include "firmware/estimation/MclMath.hpp"
 #include "firmware/estimation/MclRandom.hpp"
 #include "tests/unit/estimation/MclWorld.hpp"
 
@@ -172,6 +173,26 @@ TEST(MclRandom, PortableLogIsWithinFourUlpOfLibm) {
     ASSERT_LE(std::abs(got - want), 4.0 * std::abs(std::nextafter(want, 0.0) - want) + 1e-300) << x;
   }
   EXPECT_EQ(portable_log(1.0), 0.0);
+}
+
+TEST(MclRandom, FastSincosIsWithinItsBound) {
+  MclRng r(13);
+  double worst = 0.0;
+  for (int n = 0; n < 200000; ++n) {
+    // Mostly yaws, some angles far out (the reduction must hold there too).
+    const double a = n % 10 == 0 ? r.uniform(-1e5, 1e5) : r.uniform(-7.0, 7.0);
+    double s = 0.0, c = 0.0;
+    fast_sincos(a, s, c);
+    worst = std::max({worst, std::abs(s - std::sin(a)), std::abs(c - std::cos(a))});
+  }
+  EXPECT_LT(worst, 2e-10);
+  double s = 0.0, c = 0.0;
+  fast_sincos(0.0, s, c);
+  EXPECT_EQ(s, 0.0);
+  EXPECT_EQ(c, 1.0);
+  fast_sincos(-kPi / 2, s, c);
+  EXPECT_NEAR(s, -1.0, 1e-15);
+  EXPECT_NEAR(c, 0.0, 1e-15);
 }
 
 TEST(MclRandom, UniformIntegersAndGaussiansHaveTheirMoments) {

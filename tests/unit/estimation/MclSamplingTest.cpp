@@ -127,7 +127,7 @@ TEST(MclResampling, SpreadingOverCallsGivesTheSameDraw) {
   int calls = 0;
   while (!r.done()) {
     const int used = r.run(7, [&](int j, int i) { spread[std::size_t(j)] = i; });
-    ASSERT_LE(used, 7 + 300);  // a call may end past its budget only inside one emit
+    ASSERT_LE(used, 7);
     ++calls;
   }
   EXPECT_EQ(spread, whole);
