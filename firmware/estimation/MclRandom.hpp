@@ -2,8 +2,9 @@
 // The localiser's random numbers: xoshiro256** (Blackman and Vigna) seeded through splitmix64,
 // with uniform and Gaussian draws built from integer operations, IEEE basic arithmetic and sqrt
 // only (no std:: distributions, whose output is implementation-defined, and no libm log), so a
-// seed gives the same stream bit for bit on x86_64 and aarch64 (the build does not contract
-// a * b + c into FMA: -std=c++20 sets -ffp-contract=off).
+// seed gives the same stream bit for bit on x86_64 and aarch64, provided a * b + c is not
+// contracted into an FMA: the estimation layer builds with -ffp-contract=off (GCC's default for
+// C++ is to contract, and aarch64 always has FMA).
 #include <cmath>
 #include <cstdint>
 
