@@ -130,25 +130,36 @@ void BM_MclFloor(benchmark::State& state) {
 }
 BENCHMARK(BM_MclFloor)->Unit(benchmark::kMicrosecond);
 
-std::vector<double> bench_weights(int n) {
-  MclRng rng(42);
-  std::vector<double> w(static_cast<std::size_t>(n));
-  for (auto& x : w) x = std::exp(-8.0 * rng.uniform());
-  return w;
-}
+// 16 sets of n weights exp(-8 u), taken in turn by successive iterations: a real filter has new
+// weights every update, and one set reused would let the branch predictor learn the walk.
+struct WeightSets {
+  static constexpr int kSets = 16;
+  std::vector<double> w[kSets];
+  double total[kSets] = {};
+  explicit WeightSets(int n) {
+    MclRng rng(42);
+    for (int k = 0; k < kSets; ++k) {
+      w[k].resize(static_cast<std::size_t>(n));
+      for (auto& x : w[k]) {
+        x = std::exp(-8.0 * rng.uniform());
+        total[k] += x;
+      }
+    }
+  }
+};
 
 void BM_LowVarianceResample(benchmark::State& state) {
   const int n = int(state.range(0));
-  const std::vector<double> w = bench_weights(n);
-  double total = 0.0;
-  for (double x : w) total += x;
+  const WeightSets ws(n);
   const auto un = static_cast<std::size_t>(n);
   std::vector<Particle> in(un), out(un);
   MclRng rng(1);
   for (auto& p : in) p = {rng.uniform(), rng.uniform(), rng.uniform()};
   LowVarianceResampler r;
+  int set = 0;
   for (auto _ : state) {
-    r.begin(w.data(), n, total, n, rng.uniform());
+    set = (set + 1) % WeightSets::kSets;
+    r.begin(ws.w[set].data(), n, ws.total[set], n, rng.uniform());
     r.run(1 << 30, [&](int j, int i) { out[std::size_t(j)] = in[std::size_t(i)]; });
     benchmark::DoNotOptimize(out.data());
   }
@@ -165,9 +176,7 @@ BENCHMARK(BM_LowVarianceResample)
 
 void BM_MclResampleStage(benchmark::State& state) {
   const int n = int(state.range(0));
-  const std::vector<double> w = bench_weights(n);
-  double total = 0.0;
-  for (double x : w) total += x;
+  const WeightSets ws(n);
   const auto un = static_cast<std::size_t>(n);
   std::vector<Particle> in(un), out(un);
   MclRng rng(1);
@@ -175,8 +184,12 @@ void BM_MclResampleStage(benchmark::State& state) {
   AliasTable alias(n);
   BinSet bins(n);
   LowVarianceResampler r;
+  int set = 0;
   for (auto _ : state) {
-    alias.begin(w.data(), n, total);
+    set = (set + 1) % WeightSets::kSets;
+    const double* w = ws.w[set].data();
+    const double total = ws.total[set];
+    alias.begin(w, n, total);
     while (!alias.ready()) alias.build(1 << 30);
     bins.clear();
     for (int k = 0; k < n; ++k) {
@@ -184,7 +197,7 @@ void BM_MclResampleStage(benchmark::State& state) {
       bins.insert(int(std::floor(p.x / 0.5)), int(std::floor(p.y / 0.5)),
                   int(std::floor((p.yaw + kPi) / 0.1745)));
     }
-    r.begin(w.data(), n, total, n, rng.uniform());
+    r.begin(w, n, total, n, rng.uniform());
     r.run(1 << 30, [&](int j, int i) { out[std::size_t(j)] = in[std::size_t(i)]; });
     benchmark::DoNotOptimize(out.data());
   }
@@ -201,11 +214,11 @@ BENCHMARK(BM_MclResampleStage)
 
 void BM_AmclStyleResample(benchmark::State& state) {
   const int n = int(state.range(0));
-  const std::vector<double> w = bench_weights(n);
+  const WeightSets ws(n);
   std::vector<double> c(static_cast<std::size_t>(n) + 1, 0.0);
-  double total = 0.0;
-  for (double x : w) total += x;
-  for (int i = 0; i < n; ++i) c[std::size_t(i) + 1] = c[std::size_t(i)] + w[std::size_t(i)] / total;
+  for (int i = 0; i < n; ++i) {
+    c[std::size_t(i) + 1] = c[std::size_t(i)] + ws.w[0][std::size_t(i)] / ws.total[0];
+  }
   const auto un = static_cast<std::size_t>(n);
   std::vector<Particle> in(un), out(un);
   MclRng rng(1);
