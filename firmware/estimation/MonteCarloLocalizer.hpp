@@ -121,8 +121,8 @@ class MonteCarloLocalizer {
   static constexpr long kNormaliseUnits = 4;    // exp and the weighted sums
   static constexpr long kCovarianceUnits = 2;
   static constexpr long kAliasUnits = 2;
-  static constexpr long kCountUnits = 8;  // one draw, its bin, the hash set
-  static constexpr long kResampleUnits = 2;
+  static constexpr long kCountUnits = 10;  // one draw, its bin, the hash set
+  static constexpr long kResampleUnits = 3;
   static constexpr long kInjectUnits = 8;
 
   // MonteCarloLocalizer.cpp: set-up, the scan, the phase sequence.
