@@ -13,11 +13,11 @@
 //     is kept is then drawn low-variance with that count),
 //   - augmented MCL (table 8.3): w_slow and w_fast average how well the scans are explained, and
 //     a fraction max(0, 1 - w_fast / w_slow) of the new set is drawn uniformly over free space.
-//     What is averaged is the posterior's weighted mean of the per-beam (geometric mean)
-//     likelihood: independent of the beam count, and not dragged down by the injected particles
-//     themselves (the book's plain mean is, which feeds more injection; AMCL resets both averages
-//     after each injection to stop that, which also stalls a recovery). The averages are
-//     bias-corrected (MclPhases.cpp) and never reset but by set_*.
+//     What is averaged is the per-beam likelihood of the posterior (the exp of its weighted mean
+//     of the per-beam log-likelihood): independent of the beam count, and not dragged down by
+//     the injected particles themselves (the book's plain mean is, which feeds more injection; AMCL
+//     resets both averages after each injection to stop that, which also stalls a recovery). The
+//     averages are bias-corrected (MclPhases.cpp) and never reset but by set_*.
 //
 // Everything is allocated in the constructor. An update is begun with a scan (begin_update:
 // cheap, selects the beams) and carried out by step() calls, each doing a bounded amount of work
