@@ -241,6 +241,16 @@ Pose2 MonteCarloLocalizer::map_pose(const Pose2& odom_now) const {
   return {p.x(), p.y(), wrap_angle(estimate_.yaw + odom_now.yaw - estimate_odom_.yaw)};
 }
 
+Pose2 MonteCarloLocalizer::map_from_odom() const {
+  if (!estimate_has_odom_) return {};
+  // T with T * estimate_odom = estimate: rotation by the yaw difference, then the translation
+  // that carries the rotated odometry position onto the estimate.
+  const double yaw = wrap_angle(estimate_.yaw - estimate_odom_.yaw);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double ox = estimate_odom_.x, oy = estimate_odom_.y;
+  return {estimate_.x - (c * ox - s * oy), estimate_.y - (s * ox + c * oy), yaw};
+}
+
 double MonteCarloLocalizer::weight(int i) const {
   return std::exp(lw_[i] - log_norm_);
 }

@@ -93,6 +93,9 @@ class MonteCarloLocalizer {
   const Pose2& estimate_odom() const { return estimate_odom_; }
   // The robot's map pose now: the estimate moved on by the odometry since its update.
   Pose2 map_pose(const Pose2& odom_now) const;
+  // The correction map <- odom (AMCL's map -> odom transform): map_pose(o) is this composed
+  // with o. Identity until the first completed update.
+  Pose2 map_from_odom() const;
 
   int particle_count() const { return n_; }
   const Particle* particles() const { return cur_; }

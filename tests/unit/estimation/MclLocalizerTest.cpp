@@ -343,6 +343,7 @@ TEST(MclLocalizer, MapPoseCarriesTheEstimateOnByOdometry) {
   const Pose2 truth{1.5, 3.5, 0.3};
   mcl.set_pose(truth, 0.02, 0.02);
   EXPECT_EQ(mcl.map_pose({5.0, 5.0, 1.0}).x, mcl.estimate().x);  // no odometry yet
+  EXPECT_EQ(mcl.map_from_odom().x, 0.0);
   MclRng sensor(2);
   hal::LaserScan scan;
   synth_scan(map, truth, kMount, {}, sensor, scan);
@@ -359,6 +360,15 @@ TEST(MclLocalizer, MapPoseCarriesTheEstimateOnByOdometry) {
   EXPECT_NEAR(moved.x, e.x + std::cos(e.yaw), 1e-9);
   EXPECT_NEAR(moved.y, e.y + std::sin(e.yaw), 1e-9);
   EXPECT_NEAR(moved.yaw, wrap_angle(e.yaw + 1.5), 1e-9);
+  // map <- odom composed with an odometry pose gives map_pose.
+  const Pose2 t = mcl.map_from_odom();
+  for (const Pose2& o : {odom, Pose2{3.0, -1.0, -2.0}}) {
+    const Vec2 p = to_world(t, Vec2(o.x, o.y));
+    const Pose2 m = mcl.map_pose(o);
+    EXPECT_NEAR(p.x(), m.x, 1e-9);
+    EXPECT_NEAR(p.y(), m.y, 1e-9);
+    EXPECT_NEAR(wrap_angle(t.yaw + o.yaw - m.yaw), 0.0, 1e-9);
+  }
 }
 
 }  // namespace
