@@ -1,0 +1,258 @@
+#include "firmware/estimation/MonteCarloLocalizer.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+#include "firmware/mapping/CostValues.hpp"
+
+namespace carril::fw {
+
+namespace {
+
+int clamp_units(long units) {
+  return int(std::min(units, long(INT_MAX)));
+}
+
+}  // namespace
+
+MonteCarloLocalizer::MonteCarloLocalizer(const MclConfig& cfg, const OccupancyGrid& map)
+    : cfg_(cfg), status_(cfg.validate()), motion_(cfg.noise()), rng_(cfg.seed) {
+  if (!status_) return;
+  if (map.empty()) {
+    status_ = Status::error("localisation: the static map is empty");
+    return;
+  }
+  const std::size_t cells = std::size_t(map.nx()) * std::size_t(map.ny());
+  for (std::size_t k = 0; k < cells; ++k) n_free_ += map.data()[k] == cost::kFree ? 1U : 0U;
+  if (n_free_ == 0) {
+    status_ = Status::error("localisation: the static map has no free cell to place particles");
+    return;
+  }
+  field_ = LikelihoodField(cfg.field(), map);
+  inv_bin_xy_ = 1.0 / cfg.bin_xy_m;
+  inv_bin_yaw_ = 1.0 / cfg.bin_yaw_rad;
+  free_ = std::make_unique<std::uint32_t[]>(n_free_);
+  for (std::size_t k = 0, f = 0; k < cells; ++k) {
+    if (map.data()[k] == cost::kFree) free_[f++] = std::uint32_t(k);
+  }
+  // Validated to 1 .. 1e6; the clamp tells the compiler too (GCC 12 warns about n * 24 bytes).
+  const auto n = std::size_t(std::clamp(cfg.max_particles, 1, 1000000));
+  buf_a_ = std::make_unique<Particle[]>(n);
+  buf_b_ = std::make_unique<Particle[]>(n);
+  cur_ = buf_a_.get();
+  next_ = buf_b_.get();
+  lw_ = std::make_unique<double[]>(n);
+  w_ = std::make_unique<double[]>(n);
+  cos_ = std::make_unique<float[]>(n);
+  sin_ = std::make_unique<float[]>(n);
+  fit_ = std::make_unique<float[]>(n);
+  bins_ = BinSet(cfg.max_particles);
+  alias_ = AliasTable(cfg.max_particles);
+  valid_ = std::make_unique<std::uint16_t[]>(std::size_t(hal::kMaxScanBeams));
+  beam_x_ = std::make_unique<float[]>(std::size_t(cfg.max_beams));
+  beam_y_ = std::make_unique<float[]>(std::size_t(cfg.max_beams));
+  set_global();
+}
+
+Particle MonteCarloLocalizer::random_free_pose() {
+  const std::uint32_t k = free_[rng_.below(n_free_)];
+  const int nx = field_.nx();
+  const double res = field_.resolution();
+  const double i = double(k % std::uint32_t(nx)), j = double(k / std::uint32_t(nx));
+  Particle p;
+  p.x = field_.origin_x() + (i + rng_.uniform()) * res;
+  p.y = field_.origin_y() + (j + rng_.uniform()) * res;
+  p.yaw = rng_.uniform(-kPi, kPi);
+  return p;
+}
+
+void MonteCarloLocalizer::set_pose(const Pose2& mean, double sigma_xy_m, double sigma_yaw_rad) {
+  if (!status_) return;
+  for (int i = 0; i < cfg_.max_particles; ++i) {
+    Particle& p = cur_[i];
+    p.x = mean.x + rng_.gaussian(sigma_xy_m);
+    p.y = mean.y + rng_.gaussian(sigma_xy_m);
+    p.yaw = wrap_angle(mean.yaw + rng_.gaussian(sigma_yaw_rad));
+  }
+  reset_spread();
+}
+
+void MonteCarloLocalizer::set_global() {
+  if (!status_) return;
+  for (int i = 0; i < cfg_.max_particles; ++i) cur_[i] = random_free_pose();
+  reset_spread();
+}
+
+// A fresh equally weighted set of max_particles in cur_: its mean and covariance, no update
+// under way, the next scan weighed whatever the motion, the likelihood averages restarted.
+void MonteCarloLocalizer::reset_spread() {
+  n_ = cfg_.max_particles;
+  for (int i = 0; i < n_; ++i) {
+    lw_[i] = 0.0;
+    double s = 0.0, c = 0.0;
+    fast_sincos(cur_[i].yaw, s, c);
+    cos_[i] = float(c);
+    sin_[i] = float(s);
+    fit_[i] = 0.0F;
+  }
+  lw_max_ = 0.0;
+  begin_sums();
+  long units = LONG_MAX;
+  normalise(units);
+  take_mean();
+  cursor_ = 0;
+  covariance_pass(units);
+  take_covariance();
+  phase_ = Phase::Idle;
+  have_odom_ = false;
+  estimate_has_odom_ = false;
+  since_resample_ = 0;
+  tel_.w_slow = tel_.w_fast = 0.0;
+  ws_raw_ = wf_raw_ = 0.0;
+  decay_slow_ = decay_fast_ = 1.0;
+  tel_.inject_probability = 0.0;
+}
+
+bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& odom_pose,
+                                       const Pose2& laser_mount) {
+  if (!status_) return false;
+  if (busy()) {
+    ++tel_.dropped_scans;
+    return false;
+  }
+  if (have_odom_) {
+    const double d = std::hypot(odom_pose.x - odom_.x, odom_pose.y - odom_.y);
+    const double a = std::abs(wrap_angle(odom_pose.yaw - odom_.yaw));
+    if (d < cfg_.update_min_d_m && a < cfg_.update_min_a_rad) return false;
+  }
+  // Valid beams: finite, within the scan's limits and below the configured range (quiet
+  // comparisons: a driver's NaN limit must not trap).
+  const float rmin = scan.range_min_m;
+  const float rmax = std::fmin(scan.range_max_m, float(cfg_.laser_max_range_m));
+  const int count = std::min(int(scan.count), hal::kMaxScanBeams);
+  int nv = 0;
+  for (int i = 0; i < count; ++i) {
+    const float r = scan.ranges_m[std::size_t(i)];
+    if (std::isfinite(r) && std::isgreaterequal(r, rmin) && std::isless(r, rmax)) {
+      valid_[std::size_t(nv++)] = std::uint16_t(i);
+    }
+  }
+  if (nv == 0) return false;
+  // max_beams of them, evenly spaced, as endpoints in the robot frame [cells].
+  n_beams_ = std::min(nv, cfg_.max_beams);
+  const double inv_res = 1.0 / field_.resolution();
+  const double mc = std::cos(laser_mount.yaw), ms = std::sin(laser_mount.yaw);
+  for (int k = 0; k < n_beams_; ++k) {
+    const int i = valid_[std::size_t((2L * k + 1) * nv / (2L * n_beams_))];
+    const double a = double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
+    const double r = double(scan.ranges_m[std::size_t(i)]);
+    const double lx = r * std::cos(a), ly = r * std::sin(a);
+    beam_x_[std::size_t(k)] = float((laser_mount.x + mc * lx - ms * ly) * inv_res);
+    beam_y_[std::size_t(k)] = float((laser_mount.y + ms * lx + mc * ly) * inv_res);
+  }
+  temper_ = float(1.0 / (1.0 + double(n_beams_ - 1) * cfg_.beam_correlation));
+  moved_ = have_odom_;
+  if (moved_) delta_ = motion_.delta(odom_, odom_pose);
+  odom_ = odom_pose;
+  have_odom_ = true;
+  tel_.beams_used = n_beams_;
+  lw_max_ = -1e300;
+  cursor_ = 0;
+  phase_ = Phase::Weigh;
+  return true;
+}
+
+bool MonteCarloLocalizer::update(const hal::LaserScan& scan, const Pose2& odom_pose,
+                                 const Pose2& laser_mount) {
+  if (!begin_update(scan, odom_pose, laser_mount)) return false;
+  while (step(cfg_.max_particles)) {
+  }
+  return true;
+}
+
+bool MonteCarloLocalizer::step(int particle_budget) {
+  long units = long(std::max(particle_budget, 1)) * (n_beams_ + kWeighExtraUnits);
+  while (units > 0 && phase_ != Phase::Idle) {
+    switch (phase_) {
+      case Phase::Weigh:
+        weigh(units);
+        if (cursor_ == n_) {
+          begin_sums();
+          phase_ = Phase::Normalise;
+        }
+        break;
+      case Phase::Normalise:
+        normalise(units);
+        if (cursor_ == n_) {
+          take_mean();
+          update_averages();
+          cursor_ = 0;
+          phase_ = Phase::Covariance;
+        }
+        break;
+      case Phase::Covariance:
+        covariance_pass(units);
+        if (cursor_ == n_) finish_weighing();
+        break;
+      case Phase::Alias:
+        units -= kAliasUnits * alias_.build(clamp_units(units / kAliasUnits + 1));
+        if (alias_.ready()) begin_count();
+        break;
+      case Phase::Count:
+        count(units);
+        break;
+      case Phase::Resample: {
+        Particle* out = next_;
+        const Particle* in = cur_;
+        double* lw = lw_.get();
+        units -= kResampleUnits * resampler_.run(clamp_units(units / kResampleUnits + 1),
+                                                 [out, in, lw](int j, int i) {
+                                                   out[j] = in[i];
+                                                   lw[j] = 0.0;
+                                                 });
+        if (resampler_.done()) {
+          cursor_ = n_new_ - n_inject_;
+          phase_ = Phase::Inject;
+        }
+        break;
+      }
+      case Phase::Inject:
+        while (cursor_ < n_new_ && units > 0) {
+          next_[cursor_] = random_free_pose();
+          lw_[cursor_] = 0.0;
+          ++cursor_;
+          units -= kInjectUnits;
+        }
+        if (cursor_ == n_new_) finish_resampling();
+        break;
+      case Phase::Idle:
+        break;
+    }
+  }
+  return busy();
+}
+
+Pose2 MonteCarloLocalizer::map_pose(const Pose2& odom_now) const {
+  if (!estimate_has_odom_) return estimate_;
+  // The odometry's motion since the estimate, in the robot frame then, applied to the estimate.
+  const Vec2 d = to_robot(estimate_odom_, Vec2(odom_now.x, odom_now.y));
+  const Vec2 p = to_world(estimate_, d);
+  return {p.x(), p.y(), wrap_angle(estimate_.yaw + odom_now.yaw - estimate_odom_.yaw)};
+}
+
+Pose2 MonteCarloLocalizer::map_from_odom() const {
+  if (!estimate_has_odom_) return {};
+  // T with T * estimate_odom = estimate: rotation by the yaw difference, then the translation
+  // that carries the rotated odometry position onto the estimate.
+  const double yaw = wrap_angle(estimate_.yaw - estimate_odom_.yaw);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double ox = estimate_odom_.x, oy = estimate_odom_.y;
+  return {estimate_.x - (c * ox - s * oy), estimate_.y - (s * ox + c * oy), yaw};
+}
+
+double MonteCarloLocalizer::weight(int i) const {
+  return std::exp(lw_[i] - log_norm_);
+}
+
+}  // namespace carril::fw

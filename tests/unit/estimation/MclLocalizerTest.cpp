@@ -1,0 +1,375 @@
+// Monte Carlo localisation end to end on the synthetic house (MclWorld.hpp): tracking from a
+// wrong initial pose, global localisation on every one of 10 seeds, a kidnapped robot, no heap
+// in updates, determinism, the update rules and the configuration's checks.
+#include "firmware/estimation/MonteCarloLocalizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tests/support/CountingAllocator.hpp"
+#include "tests/unit/estimation/MclWorld.hpp"
+
+namespace carril::fw {
+namespace {
+
+using test::mcl::house_tour;
+using test::mcl::make_house;
+using test::mcl::ScanSpec;
+using test::mcl::synth_scan;
+using test::mcl::TourDriver;
+
+const Pose2 kMount{0.1, 0.0, 0.0};
+
+MclConfig house_config(std::uint64_t seed) {
+  MclConfig c;
+  c.seed = seed;
+  c.laser_max_range_m = 10.0;
+  return c;
+}
+
+double pos_error(const Pose2& a, const Pose2& b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+double yaw_error(const Pose2& a, const Pose2& b) {
+  return std::abs(wrap_angle(a.yaw - b.yaw));
+}
+
+// Drives the tour and updates the localiser whenever the odometry moved enough; calls
+// on_update(index) after each completed update. Stops when on_update returns false or after
+// max_ticks control periods.
+template <typename OnUpdate>
+void drive(MonteCarloLocalizer& mcl, TourDriver& driver, MclRng& sensor_rng, int max_ticks,
+           OnUpdate&& on_update, const ScanSpec& spec = {}) {
+  static const OccupancyGrid map = make_house();
+  static hal::LaserScan scan;
+  bool first = true;
+  Pose2 last = driver.odom();
+  int updates = 0;
+  for (int t = 0; t < max_ticks; ++t) {
+    driver.step();
+    const Pose2& o = driver.odom();
+    const bool moved = std::hypot(o.x - last.x, o.y - last.y) >= mcl.config().update_min_d_m ||
+                       yaw_error(o, last) >= mcl.config().update_min_a_rad;
+    if (!first && !moved) continue;
+    synth_scan(map, driver.truth(), kMount, spec, sensor_rng, scan);
+    if (!mcl.update(scan, o, kMount)) continue;
+    first = false;
+    last = o;
+    if (!on_update(updates++)) return;
+  }
+}
+
+// Within 0.15 m and 0.1 rad (5.7 deg) of the truth.
+bool close(const Pose2& est, const Pose2& truth) {
+  return pos_error(est, truth) < 0.15 && yaw_error(est, truth) < 0.1;
+}
+
+// Runs until `streak_needed` updates in a row are close to the truth; returns the index of the
+// first update of that streak, -1 if it does not come within max_updates.
+int updates_to_converge(MonteCarloLocalizer& mcl, TourDriver& driver, MclRng& sensor,
+                        int max_updates, int streak_needed) {
+  int streak = 0, first = -1;
+  drive(mcl, driver, sensor, 100000, [&](int u) {
+    streak = close(mcl.estimate(), driver.truth()) ? streak + 1 : 0;
+    if (streak == 1) first = u;
+    return streak < streak_needed && u + 1 < max_updates;
+  });
+  return streak >= streak_needed ? first : -1;
+}
+
+TEST(MclLocalizer, ConfigChecksNameTheFieldTheValueAndTheRange) {
+  MclConfig c;
+  EXPECT_TRUE(c.validate().is_ok()) << c.validate().message();
+  c.max_beams = 0;
+  EXPECT_STREQ(c.validate().message(), "localisation.max_beams: 0 beams, expected 1 to 2048 beams");
+  c = MclConfig{};
+  c.min_particles = 6000;
+  EXPECT_STREQ(c.validate().message(),
+               "localisation.min_particles: 6000 particles, expected 1 to 5000 particles");
+  c = MclConfig{};
+  c.z_hit = 0.99;
+  EXPECT_NE(std::string(c.validate().message()).find("localisation.z_hit"), std::string::npos);
+  c = MclConfig{};
+  c.alpha_fast = 0.0005;
+  EXPECT_NE(std::string(c.validate().message()).find("localisation.alpha_fast"), std::string::npos);
+  c = MclConfig{};
+  c.sigma_hit_m = std::nan("");
+  EXPECT_NE(std::string(c.validate().message()).find("localisation.sigma_hit_m: nan m"),
+            std::string::npos);
+  c = MclConfig{};
+  c.alpha_slow = 0.0;
+  EXPECT_NE(std::string(c.validate().message()).find("localisation.alpha_slow"), std::string::npos);
+}
+
+TEST(MclLocalizer, RefusesAMapWithoutFreeCells) {
+  OccupancyGrid empty;
+  EXPECT_FALSE(MonteCarloLocalizer(MclConfig{}, empty).status().is_ok());
+  OccupancyGrid full(100);
+  MapInfo info;
+  info.nx = info.ny = 10;
+  const std::vector<std::uint8_t> cells(100, cost::kLethal);
+  ASSERT_TRUE(full.assign(info, cells.data()).is_ok());
+  MonteCarloLocalizer mcl(MclConfig{}, full);
+  EXPECT_STREQ(mcl.status().message(),
+               "localisation: the static map has no free cell to place particles");
+  hal::LaserScan scan;
+  EXPECT_FALSE(mcl.update(scan, {}, kMount));  // inert, does not crash
+}
+
+// Started 1 m and 30 deg off (the spread covers it), the filter finds the truth and keeps it.
+TEST(MclLocalizer, TrackingConvergesFromOneMetreAndThirtyDegreesOff) {
+  const OccupancyGrid map = make_house();
+  for (std::uint64_t seed : {1, 2, 3}) {
+    MonteCarloLocalizer mcl(house_config(seed), map);
+    TourDriver driver(house_tour(), seed, 1);
+    const Pose2& t = driver.truth();
+    mcl.set_pose({t.x + 0.6, t.y - 0.8, t.yaw + 30.0 * kPi / 180.0}, 0.6, 0.6);
+    MclRng sensor(seed + 100);
+    const int first = updates_to_converge(mcl, driver, sensor, 60, 40);
+    EXPECT_GE(first, 0) << "seed " << seed;
+    EXPECT_LE(first, 10) << "seed " << seed;
+    // Converged: a tight covariance.
+    EXPECT_LT(std::sqrt(mcl.covariance()(0, 0) + mcl.covariance()(1, 1)), 0.2);
+    EXPECT_LT(std::sqrt(mcl.covariance()(2, 2)), 0.1);
+  }
+}
+
+// From a uniform spread over the free space, on every one of 10 seeds (seed of the filter, the
+// sensor noise, the odometry drift and the start on the tour).
+TEST(MclLocalizer, GlobalLocalisationConvergesOnEverySeed) {
+  const OccupancyGrid map = make_house();
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    MonteCarloLocalizer mcl(house_config(seed), map);
+    ASSERT_TRUE(mcl.status().is_ok()) << mcl.status().message();
+    ASSERT_EQ(mcl.particle_count(), mcl.config().max_particles);
+    TourDriver driver(house_tour(), seed * 77, 1 + seed % 5);
+    MclRng sensor(seed * 1000);
+    // Converged within 20 updates (4 m of driving) and still after 30 more.
+    const int first = updates_to_converge(mcl, driver, sensor, 50, 30);
+    EXPECT_GE(first, 0) << "seed " << seed;
+    EXPECT_LE(first, 20) << "seed " << seed;
+  }
+}
+
+// Carried to the farthest room with the odometry none the wiser, the robot is found again by
+// the random particles that augmented MCL injects; without injection (alpha_slow = alpha_fast =
+// 0) the same runs stay lost.
+TEST(MclLocalizer, KidnappedRobotRecoversByInjection) {
+  const OccupancyGrid map = make_house();
+  const auto tour = house_tour();
+  for (const bool inject : {true, false}) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      MclConfig cfg = house_config(seed);
+      if (!inject) cfg.alpha_slow = cfg.alpha_fast = 0.0;
+      MonteCarloLocalizer mcl(cfg, map);
+      TourDriver driver(tour, seed * 77, 1 + seed % 5);
+      mcl.set_pose(driver.truth(), 0.1, 0.1);
+      MclRng sensor(seed * 1000);
+      ASSERT_EQ(updates_to_converge(mcl, driver, sensor, 100, 100), 0) << "seed " << seed;
+      // To the waypoint farthest from where the robot is, facing the next one.
+      std::size_t k = 1;
+      for (std::size_t j = 1; j < tour.size(); ++j) {
+        const Vec2 here(driver.truth().x, driver.truth().y);
+        if ((tour[j - 1] - here).norm() > (tour[k - 1] - here).norm()) k = j;
+      }
+      const Vec2 d = tour[k] - tour[k - 1];
+      driver.kidnap({tour[k - 1].x(), tour[k - 1].y(), std::atan2(d.y(), d.x())}, k);
+      ASSERT_GT(pos_error(mcl.estimate(), driver.truth()), 3.0);
+      const std::uint64_t injected_before = mcl.telemetry().injected;
+      const int first = updates_to_converge(mcl, driver, sensor, 60, 20);
+      if (inject) {
+        EXPECT_GE(first, 0) << "seed " << seed;
+        EXPECT_LE(first, 30) << "seed " << seed;
+        EXPECT_GT(mcl.telemetry().injected, injected_before) << "seed " << seed;
+      } else {
+        EXPECT_EQ(first, -1) << "seed " << seed;
+        EXPECT_EQ(mcl.telemetry().injected, 0U);
+      }
+    }
+  }
+}
+
+// Without injection a converged set has its particles in a handful of KLD bins (2 x 2 cells
+// of 0.5 m by 4 yaw bins of 10 deg at most): the count stays at or below the bound for 16 bins,
+// and is often exactly min_particles (the bound for up to 8 bins is below it). A flat likelihood
+// (z_hit 0) keeps a uniform spread over thousands of bins, so the count stays at max_particles.
+TEST(MclLocalizer, KldSamplingShrinksAConvergedSetAndKeepsASpreadOne) {
+  const OccupancyGrid map = make_house();
+  MclConfig cfg = house_config(4);
+  cfg.alpha_slow = cfg.alpha_fast = 0.0;
+  MonteCarloLocalizer mcl(cfg, map);
+  TourDriver driver(house_tour(), 4, 1);
+  mcl.set_pose(driver.truth(), 0.05, 0.05);
+  MclRng sensor(5);
+  int at_min = 0, updates = 0, most = 0;
+  drive(mcl, driver, sensor, 100000, [&](int u) {
+    at_min += mcl.particle_count() == cfg.min_particles ? 1 : 0;
+    most = std::max(most, mcl.particle_count());
+    updates = u + 1;
+    return u < 60;
+  });
+  EXPECT_TRUE(close(mcl.estimate(), driver.truth()));
+  EXPECT_GE(at_min, updates / 4);
+  EXPECT_LE(most, kld_particles(16, cfg.kld_err, cfg.kld_z, cfg.min_particles, cfg.max_particles));
+  EXPECT_EQ(mcl.telemetry().injected, 0U);
+
+  cfg.z_hit = 0.0;
+  MonteCarloLocalizer flat(cfg, map);
+  hal::LaserScan scan;
+  synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
+  ASSERT_TRUE(flat.update(scan, {}, kMount));
+  EXPECT_EQ(flat.particle_count(), cfg.max_particles);
+}
+
+// Every call a tick makes (begin_update, step) allocates nothing: tracking, resampling with
+// injection after a kidnap, an update spread over many steps.
+TEST(MclLocalizer, UpdatesAllocateNothing) {
+  const OccupancyGrid map = make_house();
+  MonteCarloLocalizer mcl(house_config(8), map);
+  TourDriver driver(house_tour(), 8, 2);
+  MclRng sensor(8);
+  hal::LaserScan scan;
+  for (int t = 0; t < 1200; ++t) {
+    if (t == 600) driver.kidnap({2.5, 6.3, 0.5}, 16);
+    driver.step();
+    if (t % 4 != 0) continue;
+    synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
+    test::alloc::begin_window();
+    if (mcl.begin_update(scan, driver.odom(), kMount)) {
+      while (mcl.step(97)) {
+      }
+    }
+    test::alloc::end_window();
+  }
+  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  EXPECT_GT(mcl.telemetry().resamples, 50U);
+  EXPECT_GT(mcl.telemetry().injected, 0U);
+  // Counting is live: a vector outside a window is counted.
+  const std::uint64_t total_before = test::alloc::count_total();
+  auto v = std::make_unique<std::vector<int>>(10);
+  EXPECT_GT(test::alloc::count_total(), total_before);
+}
+
+// The same seed and scans give the same particles bit for bit, however the updates are spread
+// over steps; another seed gives other particles.
+TEST(MclLocalizer, SameSeedSameParticlesWhateverTheStepBudget) {
+  const OccupancyGrid map = make_house();
+  MonteCarloLocalizer a(house_config(3), map), b(house_config(3), map), c(house_config(4), map);
+  TourDriver driver(house_tour(), 3, 1);
+  MclRng sensor(3);
+  hal::LaserScan scan;
+  int updates = 0;
+  for (int t = 0; t < 200; ++t) {
+    driver.step();
+    if (t % 5 != 0) continue;
+    synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
+    const bool ua = a.update(scan, driver.odom(), kMount);
+    const bool ub = b.begin_update(scan, driver.odom(), kMount);
+    if (ub) {
+      while (b.step(37)) {
+      }
+    }
+    c.update(scan, driver.odom(), kMount);
+    ASSERT_EQ(ua, ub);
+    updates += ua ? 1 : 0;
+  }
+  ASSERT_GT(updates, 5);
+  ASSERT_EQ(a.particle_count(), b.particle_count());
+  for (int i = 0; i < a.particle_count(); ++i) {
+    ASSERT_EQ(a.particles()[i].x, b.particles()[i].x) << i;
+    ASSERT_EQ(a.particles()[i].y, b.particles()[i].y) << i;
+    ASSERT_EQ(a.particles()[i].yaw, b.particles()[i].yaw) << i;
+  }
+  EXPECT_EQ(a.estimate().x, b.estimate().x);
+  EXPECT_EQ(a.covariance(), b.covariance());
+  int same = 0;
+  const int n = std::min(a.particle_count(), c.particle_count());
+  for (int i = 0; i < n; ++i) same += a.particles()[i].x == c.particles()[i].x ? 1 : 0;
+  EXPECT_LT(same, n / 10);
+}
+
+TEST(MclLocalizer, UpdatesAfterEnoughMotionAndSkipsInvalidBeams) {
+  const OccupancyGrid map = make_house();
+  MclConfig cfg = house_config(1);
+  cfg.max_beams = 60;
+  MonteCarloLocalizer mcl(cfg, map);
+  const Pose2 truth{1.5, 3.5, 0.0};
+  mcl.set_pose(truth, 0.05, 0.05);
+  MclRng sensor(1);
+  hal::LaserScan scan;
+  synth_scan(map, truth, kMount, {}, sensor, scan);
+
+  // No valid beam: NaN, +-inf, below range_min, at or beyond range_max.
+  hal::LaserScan bad = scan;
+  const float nan = std::nanf(""), inf = HUGE_VALF;
+  for (int k = 0; k < bad.count; ++k) {
+    const float v[5] = {nan, inf, -inf, 0.01F, bad.range_max_m};
+    bad.ranges_m[std::size_t(k)] = v[k % 5];
+  }
+  EXPECT_FALSE(mcl.begin_update(bad, {}, kMount));
+  EXPECT_EQ(mcl.telemetry().updates, 0U);
+  // 40 valid beams among them: all used.
+  for (int k = 0; k < 40; ++k) bad.ranges_m[std::size_t(k * 9)] = 2.0F;
+  ASSERT_TRUE(mcl.begin_update(bad, {}, kMount));
+  EXPECT_EQ(mcl.telemetry().beams_used, 40);
+  // While it runs, another scan is dropped.
+  EXPECT_TRUE(mcl.busy());
+  EXPECT_FALSE(mcl.begin_update(scan, {}, kMount));
+  EXPECT_EQ(mcl.telemetry().dropped_scans, 1U);
+  while (mcl.step(50)) {
+  }
+  EXPECT_EQ(mcl.telemetry().updates, 1U);
+
+  // A full scan: max_beams of its beams. Small motions are skipped.
+  EXPECT_FALSE(mcl.update(scan, {0.1, 0.0, 0.3}, kMount));
+  EXPECT_TRUE(mcl.update(scan, {0.21, 0.0, 0.0}, kMount));
+  EXPECT_EQ(mcl.telemetry().beams_used, 60);
+  EXPECT_FALSE(mcl.update(scan, {0.21, 0.1, 0.4}, kMount));
+  EXPECT_TRUE(mcl.update(scan, {0.21, 0.0, 0.55}, kMount));
+  EXPECT_EQ(mcl.telemetry().updates, 3U);
+  // After set_pose the next scan updates whatever the motion.
+  mcl.set_pose(truth, 0.05, 0.05);
+  EXPECT_TRUE(mcl.update(scan, {0.21, 0.0, 0.55}, kMount));
+}
+
+TEST(MclLocalizer, MapPoseCarriesTheEstimateOnByOdometry) {
+  const OccupancyGrid map = make_house();
+  MonteCarloLocalizer mcl(house_config(2), map);
+  const Pose2 truth{1.5, 3.5, 0.3};
+  mcl.set_pose(truth, 0.02, 0.02);
+  EXPECT_EQ(mcl.map_pose({5.0, 5.0, 1.0}).x, mcl.estimate().x);  // no odometry yet
+  EXPECT_EQ(mcl.map_from_odom().x, 0.0);
+  MclRng sensor(2);
+  hal::LaserScan scan;
+  synth_scan(map, truth, kMount, {}, sensor, scan);
+  const Pose2 odom{-2.0, 1.0, 1.2};
+  ASSERT_TRUE(mcl.update(scan, odom, kMount));
+  const Pose2 e = mcl.estimate();
+  EXPECT_LT(pos_error(e, truth), 0.1);
+  const Pose2 same = mcl.map_pose(odom);
+  EXPECT_NEAR(same.x, e.x, 1e-12);
+  EXPECT_NEAR(same.yaw, e.yaw, 1e-12);
+  // 1 m forward and a quarter turn left in the odometry frame: the same in the map frame.
+  const Pose2 moved =
+      mcl.map_pose({odom.x + std::cos(odom.yaw), odom.y + std::sin(odom.yaw), odom.yaw + 1.5});
+  EXPECT_NEAR(moved.x, e.x + std::cos(e.yaw), 1e-9);
+  EXPECT_NEAR(moved.y, e.y + std::sin(e.yaw), 1e-9);
+  EXPECT_NEAR(moved.yaw, wrap_angle(e.yaw + 1.5), 1e-9);
+  // map <- odom composed with an odometry pose gives map_pose.
+  const Pose2 t = mcl.map_from_odom();
+  for (const Pose2& o : {odom, Pose2{3.0, -1.0, -2.0}}) {
+    const Vec2 p = to_world(t, Vec2(o.x, o.y));
+    const Pose2 m = mcl.map_pose(o);
+    EXPECT_NEAR(p.x(), m.x, 1e-9);
+    EXPECT_NEAR(p.y(), m.y, 1e-9);
+    EXPECT_NEAR(wrap_angle(t.yaw + o.yaw - m.yaw), 0.0, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace carril::fw
