@@ -142,6 +142,20 @@ void apply_waypoints(const MissionSpec& mission, fw::FirmwareConfig& c) {
   w.vff.max_yaw_rate_radps = std::min(w.vff.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
 }
 
+// coverage: mode, tool (the robot's width unless given), area, speed, time limit.
+void apply_coverage(const RobotSpec& r, const MissionSpec& mission, fw::FirmwareConfig& c) {
+  c.mission = fw::MissionKind::Coverage;
+  fw::CoverageConfig& k = c.coverage;
+  k.mode =
+      mission.coverage_mode == "vacuum" ? fw::CoverageMode::Vacuum : fw::CoverageMode::Systematic;
+  k.tool_width_m = mission.tool_width_m > 0.0 ? mission.tool_width_m : r.width_m;
+  k.speed_mps = mission.speed_mps;
+  k.max_time_s = mission.max_time_s;
+  for (const GoalSpec& p : mission.area) k.area.push_back(fw::Vec2(p.x_m, p.y_m));
+  k.vacuum.forward_speed_mps = std::min(k.vacuum.forward_speed_mps, mission.speed_mps);
+  k.vacuum.spiral_speed_mps = std::min(k.vacuum.spiral_speed_mps, mission.speed_mps);
+}
+
 }  // namespace
 
 fw::DriveGeometry drive_geometry(const RobotSpec& robot) {
@@ -207,6 +221,7 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   apply_mapping(r, mission.type == "goto", c);
   if (mission.type == "goto") apply_goto(mission, c);
   if (mission.type == "waypoints") apply_waypoints(mission, c);
+  if (mission.type == "coverage") apply_coverage(r, mission, c);
   fw::apply_sensor_rates(c);
   if (const fw::Status s = c.validate(); !s) {
     return rejected(explain_base(r, mission, s.message()), s);

@@ -38,6 +38,8 @@ void check_end_color(const Node& root, const MissionSpec& m) {
 }
 
 GoalSpec parse_goal(const Node& goal);
+void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                    MissionSpec& mission);
 void parse_speed(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                  MissionSpec& mission);
 
@@ -87,6 +89,28 @@ void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema&
   if (auto n = m.get("laps")) mission.laps = static_cast<int>(n->integer(1, 100));
   if (auto n = m.get("reach_radius_m"))
     mission.reach_radius_m = n->number(Range::closed(0.05, 2.0));
+  parse_speed(m, robot, schema, mission);
+}
+
+// coverage: the mode, the tool, the area and a time limit.
+void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
+                    MissionSpec& mission) {
+  m.expect_map({"type", "mode", "tool_width_m", "area", "max_time_s", "speed_mps"});
+  if (auto n = m.get("mode")) mission.coverage_mode = n->one_of({"systematic", "vacuum"});
+  if (auto n = m.get("tool_width_m")) mission.tool_width_m = n->number(Range::closed(0.05, 3.0));
+  if (auto n = m.get("max_time_s")) mission.max_time_s = n->number(Range::closed(1.0, 86400.0));
+  if (auto a = m.get("area")) {
+    const auto items = a->items();
+    if (items.size() < 3 || items.size() > 16) {
+      a->expected("a polygon of 3 to 16 corners [x, y]", std::to_string(items.size()) + " corners");
+    }
+    for (const Node& t : items) {
+      const auto xy = t.items();
+      if (xy.size() != 2) t.expected("a point [x, y]", "a list of " + std::to_string(xy.size()));
+      mission.area.push_back(GoalSpec{xy[0].number(Range::closed(-1000.0, 1000.0)),
+                                      xy[1].number(Range::closed(-1000.0, 1000.0)), 0.0});
+    }
+  }
   parse_speed(m, robot, schema, mission);
 }
 
@@ -141,6 +165,11 @@ void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& s
     parse_goto(m, robot, schema, mission);
     return;
   }
+  if (auto t = m.get("type"); t && t->yaml().IsScalar() && t->string() == "coverage") {
+    mission.type = "coverage";
+    parse_coverage(m, robot, schema, mission);
+    return;
+  }
   if (auto t = m.get("type"); t && t->yaml().IsScalar() && t->string() == "waypoints") {
     mission.type = "waypoints";
     parse_waypoints(m, robot, schema, mission);
@@ -153,10 +182,7 @@ void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& s
     m.expect_map({"type", "strategy", "line_color", "end_color", "speed_mps"});
   }
   const Node type = m.at("type");
-  if (type.yaml().IsScalar() && type.string() == "coverage") {
-    type.expected("follow_line, goto or waypoints (coverage is not supported yet)");
-  }
-  mission.type = type.one_of({"follow_line", "goto", "waypoints"});
+  mission.type = type.one_of({"follow_line", "goto", "waypoints", "coverage"});
   const Node strategy = m.at("strategy");
   mission.strategy = strategy.one_of({"line_priority", "marks", "pid"});
   if (mission.strategy == "line_priority" && robot.drive != DriveType::Mecanum) {

@@ -131,18 +131,20 @@ void parse_lidar3d(const Node& m, Lidar3dSpec& l, bool all) {
   const auto az_n = m.get("azimuths", all);
   if (az_n) l.azimuths = static_cast<int>(az_n->integer(1, 65536));
   if (l.rings * l.azimuths > 65536) {
-    (az_n ? *az_n : m).expected("rings x azimuths at most 65536 (hal::kMaxCloudPoints); rings " +
-                                    std::to_string(l.rings) + " x azimuths " +
-                                    std::to_string(l.azimuths),
-                                std::to_string(l.rings * l.azimuths));
+    (az_n ? *az_n : m)
+        .expected("rings x azimuths at most 65536 (hal::kMaxCloudPoints); rings " +
+                      std::to_string(l.rings) + " x azimuths " + std::to_string(l.azimuths),
+                  std::to_string(l.rings * l.azimuths));
   }
-  if (auto n = m.get("vertical_min_deg", all)) l.vertical_min_deg = n->number(Range::closed(-90.0, 90.0));
+  if (auto n = m.get("vertical_min_deg", all))
+    l.vertical_min_deg = n->number(Range::closed(-90.0, 90.0));
   const auto vmax_n = m.get("vertical_max_deg", all);
   if (vmax_n) l.vertical_max_deg = vmax_n->number(Range::closed(-90.0, 90.0));
   if (l.rings > 1 && l.vertical_max_deg <= l.vertical_min_deg) {
-    (vmax_n ? *vmax_n : m).expected("a number in (vertical_min_deg = " +
-                                        strict::format_number(l.vertical_min_deg) + ", 90]",
-                                    strict::format_number(l.vertical_max_deg));
+    (vmax_n ? *vmax_n : m)
+        .expected("a number in (vertical_min_deg = " + strict::format_number(l.vertical_min_deg) +
+                      ", 90]",
+                  strict::format_number(l.vertical_max_deg));
   }
   if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
   const auto max_n = m.get("range_max_m", all);
@@ -150,7 +152,9 @@ void parse_lidar3d(const Node& m, Lidar3dSpec& l, bool all) {
   if (max_n) l.range_max_m = max_n->number(Range::closed(0.5, 200.0));
   if (min_n) l.range_min_m = min_n->number(Range::closed(0.0, 10.0));
   if (l.range_min_m >= l.range_max_m) {
-    (min_n ? *min_n : max_n ? *max_n : m)
+    (min_n   ? *min_n
+     : max_n ? *max_n
+             : m)
         .expected("range_min_m below range_max_m = " + strict::format_number(l.range_max_m),
                   strict::format_number(l.range_min_m));
   }

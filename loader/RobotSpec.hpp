@@ -40,19 +40,19 @@ struct LidarSpec {
 // [vertical_min_deg, vertical_max_deg], `azimuths` firings per 360 deg sweep. Simulated only for
 // now (host_sim/sensors/Lidar3dSim). Defaults: the HDL-32E, kept cheap to simulate (20 m).
 struct Lidar3dSpec {
-  bool present = false;                 // a 3D lidar is fitted (a robot file may leave it out)
-  double x_m = 0.0, y_m = 0.0;          // mount position in the robot frame [m]
-  double z_m = 0.5;                     // optical centre above the floor under the robot [m]
-  double yaw_deg = 0.0;                 // mount heading relative to robot x [deg]
-  int rings = 32;                       // beams stacked vertically
-  double vertical_min_deg = -30.67;     // lowest ring's elevation (below horizontal < 0) [deg]
-  double vertical_max_deg = 10.67;      // highest ring's elevation [deg]
-  int azimuths = 1800;                  // firings per sweep (1800: 0.2 deg) [1]
-  double rate_hz = 10.0;                // sweeps per second [Hz]
-  double range_min_m = 1.0;             // blind zone round the sensor: nearer returns dropped [m]
-  double range_max_m = 20.0;            // farther returns dropped [m]
-  double noise_std_m = 0.0;             // Gaussian range noise along the beam [m]
-  double drop_probability = 0.0;        // each beam's chance of returning nothing [0..1]
+  bool present = false;              // a 3D lidar is fitted (a robot file may leave it out)
+  double x_m = 0.0, y_m = 0.0;       // mount position in the robot frame [m]
+  double z_m = 0.5;                  // optical centre above the floor under the robot [m]
+  double yaw_deg = 0.0;              // mount heading relative to robot x [deg]
+  int rings = 32;                    // beams stacked vertically
+  double vertical_min_deg = -30.67;  // lowest ring's elevation (below horizontal < 0) [deg]
+  double vertical_max_deg = 10.67;   // highest ring's elevation [deg]
+  int azimuths = 1800;               // firings per sweep (1800: 0.2 deg) [1]
+  double rate_hz = 10.0;             // sweeps per second [Hz]
+  double range_min_m = 1.0;          // blind zone round the sensor: nearer returns dropped [m]
+  double range_max_m = 20.0;         // farther returns dropped [m]
+  double noise_std_m = 0.0;          // Gaussian range noise along the beam [m]
+  double drop_probability = 0.0;     // each beam's chance of returning nothing [0..1]
 };
 
 struct ImuSpec {

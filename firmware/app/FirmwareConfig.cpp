@@ -27,6 +27,10 @@ Status FirmwareConfig::validate() const {
         .fail_if(!mapping.enabled, "mapping.enabled",
                  "must be true for waypoints (VFF is pushed by the costmap's obstacles)");
   }
+  if (mission == MissionKind::Coverage) {
+    c.nested(coverage.validate())
+        .fail_if(!mapping.enabled, "mapping.enabled", "must be true for coverage");
+  }
   if (lidar.present) c.nested(lidar.validate());
   c.nested(localisation.validate());
   const bool have_map = map != nullptr && !map->empty();

@@ -9,6 +9,7 @@
 #include "firmware/core/Status.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
+#include "firmware/mission/CoverageMission.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
@@ -18,7 +19,7 @@
 
 namespace carril::fw {
 
-enum class MissionKind : std::uint8_t { FollowLine, Goto, Waypoints };
+enum class MissionKind : std::uint8_t { FollowLine, Goto, Waypoints, Coverage };
 
 struct FirmwareConfig {
   double rate_hz = 100.0;  // control tick [Hz]
@@ -33,6 +34,7 @@ struct FirmwareConfig {
   MissionKind mission = MissionKind::FollowLine;  // which mission runs
   FollowLineConfig follow_line;                   // follow_line: strategy and state machine
   GotoConfig goto_mission;                        // goto: goal, planner and follower
+  CoverageConfig coverage;          // coverage: the cleaning mission on the static map
   WaypointConfig waypoints;         // waypoints: the course's targets, followed with VFF
   MappingConfig mapping;            // the costmap (goto plans on it, follow_line avoids with it)
   LocalisationConfig localisation;  // on a known map: where the robot starts, how it localises

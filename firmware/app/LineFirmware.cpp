@@ -19,6 +19,11 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
               bus.odometry, bus.line, bus.obstacles),
       goto_mission(cfg.goto_mission, cfg.footprint(), kinematics.holonomic(), bus.pose, mapping),
       waypoints(cfg.waypoints, cfg.footprint(), kinematics.holonomic(), bus.pose, mapping),
+      coverage(cfg.mission == MissionKind::Coverage
+                   ? std::make_unique<CoverageMission>(cfg.coverage, cfg.footprint(),
+                                                       kinematics.holonomic(), bus.pose, mapping,
+                                                       cfg.map != nullptr ? *cfg.map : no_map_)
+                   : nullptr),
       runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), select_mission(cfg.mission),
              bus.frame, bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
@@ -75,6 +80,8 @@ Mission& LineFirmware::select_mission(MissionKind kind) {
       return goto_mission;
     case MissionKind::Waypoints:
       return waypoints;
+    case MissionKind::Coverage:
+      return *coverage;
     case MissionKind::FollowLine:
       break;
   }

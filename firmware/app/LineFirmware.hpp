@@ -4,6 +4,7 @@
 // one, declares its task table (which component runs at what rate, with what budget) and
 // drives tick() from its loop.
 #include <cstdint>
+#include <memory>
 
 #include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
@@ -17,6 +18,7 @@
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
+#include "firmware/mission/CoverageMission.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
 #include "firmware/mission/MissionRunner.hpp"
@@ -76,6 +78,8 @@ class LineFirmware {
   // A mission counter by name (0 when the mission keeps none of that name).
   std::uint32_t mission_counter(const char* name) const;
 
+  // The map a coverage mission reads when none is configured (empty).
+  static inline const OccupancyGrid no_map_{};
   const DriveKinematics kinematics;
   LineBus bus;
   // The components, in the order data flows through them.
@@ -89,6 +93,8 @@ class LineFirmware {
   FollowLineMission mission;
   GotoMission goto_mission;
   WaypointMission waypoints;
+  // Built only for a coverage mission (its area, decomposition and tour are made at init).
+  std::unique_ptr<CoverageMission> coverage;
   MissionRunner runner;  // runs the configured one of the missions above
   MotionOutput output;
   // Control loop -> slow rate group: the newest status snapshot (read by a StatusReporter).

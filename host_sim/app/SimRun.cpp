@@ -32,6 +32,9 @@ SimRun::SimRun(const Scenario& scenario, std::uint64_t seed, const ConfigTweak& 
       scan_period_ns_(period_ns(scenario.robot.lidar.rate_hz)),
       alloc_base_(alloc::count_in_windows()) {
   rows_.reserve(std::size_t(scenario.duration_s * scenario.robot.control_rate_hz) + 16);
+  if (topo_.config.mission == fw::MissionKind::Coverage && !topo_.static_map.empty()) {
+    coverage_ = std::make_unique<CoverageScore>(scenario, topo_.config, topo_.static_map);
+  }
 }
 
 const char* SimRun::state_name() const {
@@ -129,6 +132,7 @@ bool SimRun::step() {
   s.in_end_state = !faulted && (ms.status == fw::MissionStatus::Finishing ||
                                 ms.status == fw::MissionStatus::Done);
   const double ct = metrics_.add(s);
+  if (coverage_) coverage_->add(s.pose);
   if (fw.config().localisation.enabled) {
     const fw::Pose2 est = fw.bus.pose.get().pose;
     localisation_.add(s.t_s, std::hypot(est.x - s.pose.x, est.y - s.pose.y),
@@ -147,6 +151,9 @@ bool SimRun::step() {
     result_ = "end_reached";
   } else if (!faulted && ms.status == fw::MissionStatus::Done && scenario_.mission.type == "goto") {
     result_ = "goal_reached";
+  } else if (!faulted && ms.status == fw::MissionStatus::Done &&
+             scenario_.mission.type == "coverage") {
+    result_ = "coverage_done";
   } else if (faulted) {
     // Keep simulating for a second so the quick stop shows in the trajectory.
     if (fault_at_s_ < 0) fault_at_s_ = s.t_s;
@@ -295,6 +302,22 @@ RunSummary SimRun::summary(double wall_time_s) {
   if (x.fault && r.fault != *x.fault) {
     r.unmet_expectations.push_back("fault: expected " + *x.fault + ", got " +
                                    (r.fault.empty() ? std::string("none") : r.fault));
+  }
+  if (coverage_) {
+    const CoverageFigures f = coverage_->figures();
+    r.coverage = f.covered;
+    r.coverage_overlap = f.overlap;
+    r.coverage_area_m2 = f.area_m2;
+    r.coverage_lower_bound_s = f.lower_bound_s;
+    r.coverage_time_ratio = r.sim_time_s / f.lower_bound_s;
+  }
+  if (x.min_coverage && !(r.coverage && *r.coverage >= *x.min_coverage)) {
+    miss("min_coverage: expected >= %.3f, got %.3f", *x.min_coverage, r.coverage.value_or(-1.0));
+  }
+  if (x.max_coverage_time_ratio &&
+      !(r.coverage_time_ratio && *r.coverage_time_ratio <= *x.max_coverage_time_ratio)) {
+    miss("max_coverage_time_ratio: expected <= %.2f, got %.2f", *x.max_coverage_time_ratio,
+         r.coverage_time_ratio.value_or(-1.0));
   }
   if (x.min_laps && r.laps < *x.min_laps)
     miss("min_laps: expected >= %.0f, got %.0f", *x.min_laps, r.laps);

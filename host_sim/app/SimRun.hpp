@@ -3,9 +3,11 @@
 // runs one firmware step (inside an allocation-counting window), applies the drive setpoints,
 // advances the physics by one period and scores the result.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "host_sim/app/CoverageScore.hpp"
 #include "host_sim/app/SimTopology.hpp"
 #include "host_sim/metrics/LocalisationMetrics.hpp"
 #include "host_sim/metrics/RunMetrics.hpp"
@@ -42,6 +44,8 @@ class SimRun {
   const fw::LineFirmware& firmware() const { return *topo_.firmware; }
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t allocations_in_ticks() const;
+  // The coverage run's score from the true pose (nullptr for other missions).
+  const CoverageScore* coverage() const { return coverage_.get(); }
 
  private:
   void publish_sensors(hal::TimeNs t);
@@ -51,6 +55,7 @@ class SimRun {
   SimTopology topo_;
   RunMetrics metrics_;
   LocalisationMetrics localisation_;
+  std::unique_ptr<CoverageScore> coverage_;
   std::size_t next_kidnap_ = 0;
   double period_s_;
   hal::TimeNs period_ns_, cam_period_ns_, scan_period_ns_;

@@ -25,6 +25,11 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map) {
                                 (b.firmware_error.empty() ? b.error : b.firmware_error));
   }
   fw::FirmwareConfig& c = b.config;
+  if (c.mission == fw::MissionKind::Coverage && c.coverage.mode == fw::CoverageMode::Systematic &&
+      !s.map) {
+    throw std::invalid_argument(s.source_path +
+                                ": map: a systematic coverage mission plans on a map, none given");
+  }
   if (s.map && map != nullptr) {
     // On a map the world frame is the map frame: goals stay as written; the firmware is told
     // where it starts (the true start unless the scenario says otherwise).

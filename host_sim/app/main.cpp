@@ -17,9 +17,9 @@
 #include <string_view>
 #include <thread>
 
+#include "host_sim/app/CostmapOutputs.hpp"
 #include "host_sim/app/FpTraps.hpp"
 #include "host_sim/app/HilMain.hpp"
-#include "host_sim/app/CostmapOutputs.hpp"
 #include "host_sim/app/LiveView.hpp"
 #include "host_sim/app/SimRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
@@ -306,6 +306,7 @@ int main(int argc, char** argv) {
 
   std::string error;
   const auto costmaps = [&run](const std::string& dir, std::string& err) {
+    if (run.coverage() != nullptr && !run.coverage()->write_png(dir, err)) return false;
     return carril::sim::write_costmap_outputs(run.firmware(), dir, err);
   };
   if (!carril::sim::write_run_outputs(out_dir, scenario, run.rows(), run.collisions(), summary,

@@ -127,6 +127,11 @@ std::string summary_to_json(const RunSummary& s) {
   w.num("goal_yaw_error_deg", s.goal_yaw_error_deg);
   w.integer("replans", s.replans);
   w.integer("cells_checked", s.cells_checked);
+  w.num("coverage", s.coverage);
+  w.num("coverage_overlap", s.coverage_overlap);
+  w.num("coverage_area_m2", s.coverage_area_m2);
+  w.num("coverage_lower_bound_s", s.coverage_lower_bound_s);
+  w.num("coverage_time_ratio", s.coverage_time_ratio);
   w.num("localisation_rmse_m", s.localisation_rmse_m);
   w.num("localisation_max_error_m", s.localisation_max_error_m);
   w.num("yaw_rmse_deg", s.yaw_rmse_deg);
@@ -181,9 +186,9 @@ namespace fs = std::filesystem;
 constexpr std::array<const char*, 4> kOutputFiles = {"trajectory.csv", "trajectory.png",
                                                      "velocities.png", "summary.json"};
 // What a run with a costmap adds (RunExtraFile names must be among these).
-constexpr std::array<const char*, 6> kExtraOutputFiles = {"costmap.png",    "costmap.pgm",
-                                                          "costmap.yaml",   "traversability.png",
-                                                          "elevation.cmap", "obstacles.png"};
+constexpr std::array<const char*, 7> kExtraOutputFiles = {
+    "costmap.png",    "costmap.pgm",   "costmap.yaml", "traversability.png",
+    "elevation.cmap", "obstacles.png", "coverage.png"};
 
 std::string g_fault;  // set_output_fault_for_test
 

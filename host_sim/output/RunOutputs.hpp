@@ -71,6 +71,11 @@ struct RunSummary {
   std::optional<double> time_to_converge_s;
   std::optional<double> relocalised_after_kidnap_s;                // the first kidnap's
   std::vector<std::optional<double>> relocalised_after_kidnaps_s;  // every kidnap's
+  // coverage (null for other missions): the swept fraction of the area a robot of this size can
+  // sweep from its start, the fraction of swept cells swept more than once, that area, the lower
+  // bound on the time (area / (tool width x speed)) and the run's time over it.
+  std::optional<double> coverage, coverage_overlap, coverage_area_m2, coverage_lower_bound_s,
+      coverage_time_ratio;
   // Each firmware task's compute time on this host (shared, noisy: figures, not goals).
   struct TaskTime {
     std::string name;

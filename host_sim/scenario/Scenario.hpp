@@ -115,10 +115,12 @@ struct ExpectSpec {
   std::optional<std::string> fault;              // the run must end in this fault (e.g. no_path)
   std::optional<int> min_replans;                // goto: at least this many replans
   std::vector<CellExpect> cells;
+  std::optional<double> min_coverage;             // coverage: swept fraction at least this
+  std::optional<double> max_coverage_time_ratio;  // coverage: time / lower bound at most this
   bool any() const {
     return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps ||
            max_end_stop_error_m || goal_reached || max_goal_error_m || max_goal_yaw_error_deg ||
-           fault || min_replans || !cells.empty();
+           fault || min_replans || !cells.empty() || min_coverage || max_coverage_time_ratio;
   }
 };
 

@@ -371,7 +371,8 @@ OdometryErrorSpec parse_odometry(const Node& m) {
 ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
-                "max_goal_yaw_error_deg", "fault", "min_replans", "cells"});
+                "max_goal_yaw_error_deg", "fault", "min_replans", "cells", "min_coverage",
+                "max_coverage_time_ratio"});
   ExpectSpec e;
   if (auto n = m.get("goal_reached")) e.goal_reached = n->boolean();
   if (auto n = m.get("max_goal_error_m")) {
@@ -381,7 +382,12 @@ ExpectSpec parse_expect(const Node& m) {
     e.max_goal_yaw_error_deg = n->number(Range::open_closed(0.0, 180.0));
   }
   if (auto n = m.get("fault")) {
-    e.fault = n->one_of({"no_path", "goal_invalid", "path_blocked", "line_not_found"});
+    e.fault = n->one_of(
+        {"no_path", "goal_invalid", "path_blocked", "line_not_found", "no_coverage_area"});
+  }
+  if (auto n = m.get("min_coverage")) e.min_coverage = n->number(Range::closed(0.0, 1.0));
+  if (auto n = m.get("max_coverage_time_ratio")) {
+    e.max_coverage_time_ratio = n->number(Range::open_closed(0.0, 100.0));
   }
   if (auto n = m.get("min_replans")) e.min_replans = static_cast<int>(n->integer(0, 1000000));
   e.cells = parse_list<CellExpect>(m.get("cells"), kMaxCellExpects, "cells", parse_cell_expect);

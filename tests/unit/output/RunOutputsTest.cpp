@@ -108,6 +108,17 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "goal_yaw_error_deg",
                                              "replans",
                                              "cells_checked",
+                                             "coverage",
+                                             "coverage_overlap",
+                                             "coverage_area_m2",
+                                             "coverage_lower_bound_s",
+                                             "coverage_time_ratio",
+                                             "localisation_rmse_m",
+                                             "localisation_max_error_m",
+                                             "yaw_rmse_deg",
+                                             "time_to_converge_s",
+                                             "relocalised_after_kidnap_s",
+                                             "relocalised_after_kidnaps_s",
                                              "tasks"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
