@@ -30,6 +30,7 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
              controller),
       cfg_(cfg) {
   if (cfg.mapping.enabled) mission.set_costmap(&mapping);
+  if (cfg.localisation.enabled) runner.watch_pose(bus.pose);
 }
 
 TaskRates task_rates(const FirmwareConfig& c) {

@@ -121,7 +121,7 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
     ++tel_.dropped_scans;
     return false;
   }
-  if (have_odom_) {
+  if (have_odom_ && !force_next_) {
     const double d = std::hypot(odom_pose.x - odom_.x, odom_pose.y - odom_.y);
     const double a = std::abs(wrap_angle(odom_pose.yaw - odom_.yaw));
     if (d < cfg_.update_min_d_m && a < cfg_.update_min_a_rad) return false;
@@ -152,6 +152,7 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
     beam_y_[std::size_t(k)] = float((laser_mount.y + ms * lx + mc * ly) * inv_res);
   }
   temper_ = float(1.0 / (1.0 + double(n_beams_ - 1) * cfg_.beam_correlation));
+  force_next_ = false;
   moved_ = have_odom_;
   if (moved_) delta_ = motion_.delta(odom_, odom_pose);
   odom_ = odom_pose;

@@ -96,6 +96,9 @@ class MonteCarloLocalizer {
   // The correction map <- odom (AMCL's map -> odom transform): map_pose(o) is this composed
   // with o. Identity until the first completed update.
   Pose2 map_from_odom() const;
+  // The next begin_update weighs its scan even if the robot has not moved (a robot held still
+  // while it is not localised, so the filter keeps working on what it sees).
+  void force_next_update() { force_next_ = true; }
 
   int particle_count() const { return n_; }
   const Particle* particles() const { return cur_; }
@@ -180,8 +183,9 @@ class MonteCarloLocalizer {
   float temper_ = 1.0F;
   bool moved_ = false;
   OdometryDelta delta_;
-  Pose2 odom_;              // odometry pose of the update under way (or the last one)
-  bool have_odom_ = false;  // false until the first update after construction or set_*
+  Pose2 odom_;               // odometry pose of the update under way (or the last one)
+  bool have_odom_ = false;   // false until the first update after construction or set_*
+  bool force_next_ = false;  // the next scan updates however little the robot moved
   double lw_max_ = 0.0;
   double sum_w_ = 0.0, sum_w2_ = 0.0, sum_wx_ = 0.0, sum_wy_ = 0.0, sum_wc_ = 0.0, sum_ws_ = 0.0,
          sum_wfit_ = 0.0;

@@ -13,6 +13,9 @@ namespace carril::fw {
 struct OdometryMsg {
   Pose2 pose;   // [m, m, rad]
   Twist twist;  // measured from wheel speeds [m/s, m/s, rad/s]
+  // The pose can be trusted in its frame (always for odometry; on a map, once localisation has
+  // converged and while it stays so).
+  bool localised = true;
 };
 
 struct WheelOdometryTelemetry {

@@ -46,6 +46,11 @@ void MissionRunner::run() {
     out_.publish(MotionRequest{}, f.now_ns);
     return;
   }
+  if (pose_ != nullptr && !pose_->get().localised) {
+    ++tel_.unlocalised_ticks;
+    out_.publish(MotionRequest{}, f.now_ns);
+    return;
+  }
   guard_.new_tick();
   MissionContext ctx;
   ctx.t_s = double(f.now_ns) * 1e-9;

@@ -47,8 +47,9 @@ class ObstacleGuard {
 };
 
 struct MissionRunnerTelemetry {
-  std::uint64_t obstacle_stops = 0;  // guarded motions the runner stopped for an obstacle
-  bool stopped = false;              // the mission was stopped by a fault (safe stop)
+  std::uint64_t obstacle_stops = 0;     // guarded motions the runner stopped for an obstacle
+  std::uint64_t unlocalised_ticks = 0;  // ticks held still while the pose was not localised
+  bool stopped = false;                 // the mission was stopped by a fault (safe stop)
 };
 
 class MissionRunner {
@@ -57,6 +58,10 @@ class MissionRunner {
                 const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
                 const Topic<ObstacleField>& obstacles, Topic<MotionRequest>& out, FaultSink& faults,
                 bool imu_present = false);
+
+  // The pose the mission drives by (the map-frame pose): while it is not localised the runner
+  // holds the robot still and does not update the mission (it would drive by a wrong pose).
+  void watch_pose(const Topic<OdometryMsg>& pose) { pose_ = &pose; }
 
   // Task: one mission update (or the safe stop).
   void run();
@@ -73,6 +78,7 @@ class MissionRunner {
   Topic<MotionRequest>& out_;
   FaultSink& faults_;
   ObstacleGuard guard_;
+  const Topic<OdometryMsg>* pose_ = nullptr;
   bool entered_ = false;
   bool imu_present_;
   bool imu_seen_ = false;

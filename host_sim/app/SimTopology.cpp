@@ -17,7 +17,7 @@ constexpr std::int64_t us(double v) {
 }
 }  // namespace
 
-fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map) {
+fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, std::uint64_t seed) {
   // The same builder as the robot target's; a rejection reads as SimTopology's own would.
   loader::BuildResult b = loader::build_firmware_config(s.robot, s.mission);
   if (!b.ok) {
@@ -43,6 +43,22 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map) {
     c.localisation.enabled = true;
     const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
     c.localisation.initial_pose = {p.x, p.y, p.yaw_rad};
+    c.localisation.global = s.localisation.global;
+    c.localisation.lidar_mount = {c.lidar.x_m, c.lidar.y_m, c.lidar.yaw_rad};
+    c.localisation.mcl.laser_max_range_m = s.robot.lidar.range_max_m;
+    c.localisation.mcl.seed = seed;
+    // Tuned to the simulated robot: a lidar with 1 cm range noise (sigma_hit 0.1 m, beams
+    // counted as 1 + 59 x 0.05 correlated), odometry that drifts only by the scenario's
+    // odometry: section (alphas 0.05). Recovery by random injection (augmented MCL) only when
+    // the scenario asks for it, as AMCL's defaults (alpha_slow = alpha_fast = 0) leave it off:
+    // in a symmetric building it can trade a right estimate for a wrong one.
+    fw::MclConfig& mc = c.localisation.mcl;
+    mc.sigma_hit_m = 0.1;
+    mc.beam_correlation = 0.05;
+    mc.alpha1 = mc.alpha2 = mc.alpha3 = mc.alpha4 = 0.05;
+    if (!s.localisation.recovery) mc.alpha_fast = mc.alpha_slow = 0.0;
+    c.localisation.initial_sigma_xy_m = s.localisation.initial_sigma_xy_m;
+    c.localisation.initial_sigma_yaw_rad = s.localisation.initial_sigma_yaw_rad;
     return c;
   }
   // A scenario's goals are in the world frame; the firmware's odometry starts at the start pose.
@@ -119,7 +135,7 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       encoders(s.odometry, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu, &cloud},
-      config(checked(firmware_config(s, &static_map), tweak, s)),
+      config(checked(firmware_config(s, &static_map, seed), tweak, s)),
       firmware(wired(config, clock, s)),
       app(devices, firmware->controller),
       reporter(firmware->status, console),

@@ -28,7 +28,8 @@ namespace carril::sim {
 // the static map the firmware is given (filled from the scenario's; it must outlive the
 // firmware), goals stay in the world frame (the map frame) and localisation starts at the
 // scenario's initial pose; without one, goals are carried into the odometry frame.
-fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map = nullptr);
+fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map = nullptr,
+                                   std::uint64_t seed = 1);
 
 // Changes the firmware configuration after it is derived from the scenario (tests: a rule
 // switched off, to show what it guards against).

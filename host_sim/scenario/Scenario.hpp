@@ -132,8 +132,11 @@ struct KidnapSpec {
 
 // On a scenario with a map: what the firmware is told about where it starts, and the kidnaps.
 struct LocalisationSpec {
-  std::optional<Pose2> initial_pose;  // the pose the firmware is given; default the true start
-  bool global = false;                // it is given none: global localisation
+  std::optional<Pose2> initial_pose;   // the pose the firmware is given; default the true start
+  bool global = false;                 // it is given none: global localisation
+  double initial_sigma_xy_m = 0.3;     // the spread of the particles round it [m]
+  double initial_sigma_yaw_rad = 0.2;  // [rad]
+  bool recovery = false;  // augmented MCL's random injection (needed to recover from a kidnap)
   std::vector<KidnapSpec> kidnaps;
 };
 

@@ -342,8 +342,16 @@ KidnapSpec parse_kidnap(const Node& m) {
 }
 
 LocalisationSpec parse_localisation(const Node& m) {
-  m.expect_map({"initial_pose", "global", "kidnap"});
+  m.expect_map({"initial_pose", "global", "kidnap", "initial_sigma_xy_m", "initial_sigma_yaw_deg",
+                "recovery"});
   LocalisationSpec l;
+  if (auto n = m.get("initial_sigma_xy_m")) {
+    l.initial_sigma_xy_m = n->number(Range::closed(0.01, 10.0));
+  }
+  if (auto n = m.get("initial_sigma_yaw_deg")) {
+    l.initial_sigma_yaw_rad = deg2rad(n->number(Range::closed(0.5, 180.0)));
+  }
+  if (auto n = m.get("recovery")) l.recovery = n->boolean();
   if (auto n = m.get("initial_pose")) l.initial_pose = parse_pose(*n);
   if (auto n = m.get("global")) l.global = n->boolean();
   if (l.global && l.initial_pose) {

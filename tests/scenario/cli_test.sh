@@ -77,7 +77,8 @@ check "different seed, different trajectory file" differ "$work/s1/trajectory.cs
 for sig in INT HUP; do
   "$sim" --scenario "$src/scenarios/square.yaml" --out "$work/int_$sig" --realtime >"$work/out" 2>"$work/err" &
   pid=$!
-  sleep 2
+  # 3 s of wall time: the run is at least 1 s in even when start-up is slow on a loaded host.
+  sleep 3
   kill -"$sig" "$pid"
   wait "$pid"
   rc=$?
@@ -152,10 +153,18 @@ check "rerun left no staging directory" test -z "$(ls -A "$work" | grep '^\.')"
 # 11. A signal during start-up (held there by the CARRIL_SIM_STARTUP_DELAY_MS test hook) stops
 # carril_sim with a message naming the signal and the stage; exit 1, nothing written.
 for sig in TERM INT HUP; do
-  start=$(date +%s%N)
   CARRIL_SIM_STARTUP_DELAY_MS=20000 "$sim" --scenario "$src/scenarios/circle.yaml" --out "$work/early_$sig" >"$work/out" 2>"$work/err" &
   pid=$!
-  sleep 0.5
+  # Signal only once carril_sim catches it (its handler is installed first thing): on a loaded
+  # machine a fixed sleep could strike before that and the default action would kill it.
+  signo=$(kill -l "$sig")
+  for _ in $(seq 1 200); do
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+    if [ -n "$caught" ] && (( (16#$caught >> (signo - 1)) & 1 )); then break; fi
+    sleep 0.05
+  done
+  sleep 0.2
+  start=$(date +%s%N)
   kill -"$sig" "$pid"
   wait "$pid"
   rc=$?

@@ -171,3 +171,29 @@ TEST(MissionRunnerTest, ConfigValidateNamesTheField) {
 
 }  // namespace
 }  // namespace carril::fw
+
+namespace carril::fw {
+namespace {
+
+TEST(MissionRunnerTest, HoldsStillWithoutUpdatingWhileThePoseIsNotLocalised) {
+  Rig r;
+  Topic<OdometryMsg> pose;
+  r.runner.watch_pose(pose);
+  r.mission.next.motion.twist = {0.3, 0.0, 0.1};
+  pose.edit().localised = false;
+  pose.publish(0);
+  r.tick(0.0);
+  r.tick(0.01);
+  EXPECT_TRUE(r.mission.contexts.empty());  // not asked while lost
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  EXPECT_EQ(r.runner.telemetry().unlocalised_ticks, 2U);
+  pose.edit().localised = true;
+  pose.publish(0);
+  r.tick(0.02);
+  EXPECT_EQ(r.mission.contexts.size(), 1U);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.3);
+}
+
+}  // namespace
+}  // namespace carril::fw
