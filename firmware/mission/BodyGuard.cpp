@@ -43,16 +43,21 @@ void BodyGuard::gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid)
   }
 }
 
-BodyGuard::Nearest BodyGuard::nearest(int ignore_side) const {
+BodyGuard::Nearest BodyGuard::nearest() const {
+  return nearest_around(Vec2(0.0, 0.0), 1e150);
+}
+
+BodyGuard::Nearest BodyGuard::nearest_around(const Vec2& p, double within_m) const {
   Nearest n;
   double best = 1e300;
-  const double side_limit = hw_ + pad_ + half_cell_;
+  const double w2 = within_m * within_m;
   for (const Cell& k : cells_) {
-    if (ignore_side != 0 && ignore_side * double(k.y) > side_limit) continue;
-    const double d2 = double(k.x) * double(k.x) + double(k.y) * double(k.y);
+    const double x = double(k.x), y = double(k.y);
+    if ((x - p.x()) * (x - p.x()) + (y - p.y()) * (y - p.y()) > w2) continue;
+    const double d2 = x * x + y * y;
     if (d2 < best) {
       best = d2;
-      n.p = Vec2(k.x, k.y);
+      n.p = Vec2(x, y);
     }
   }
   if (best < 1e300) {
@@ -79,7 +84,10 @@ BodyGuard::Corridor BodyGuard::corridor(const Vec2& dir, double half_width_m, do
   for (const Cell& k : cells_) {
     const double u = dir.x() * double(k.x) + dir.y() * double(k.y);
     const double w = -dir.y() * double(k.x) + dir.x() * double(k.y);
-    if (u > 0.0 && u < c.first_m && std::fabs(w) <= half_width_m) c.first_m = u;
+    if (u > 0.0 && u < c.first_m && std::fabs(w) <= half_width_m) {
+      c.first_m = u;
+      c.first_p = Vec2(double(k.x), double(k.y));
+    }
   }
   if (c.first_m >= length_m) return c;
   double sum = 0.0;
@@ -102,10 +110,10 @@ bool BodyGuard::inside(const Cell& k, double x, double y, double yaw, double gro
   return std::fabs(lx) <= hl_ + grow && std::fabs(ly) <= hw_ + grow;
 }
 
-bool BodyGuard::hits(double x, double y, double yaw) const {
+bool BodyGuard::hits(double x, double y, double yaw, double x0) const {
   const double padded = pad_ + half_cell_;
   for (const Cell& k : cells_) {
-    const bool in_pad_now = inside(k, 0.0, 0.0, 0.0, padded);
+    const bool in_pad_now = inside(k, x0, 0.0, 0.0, padded);
     if (inside(k, x, y, yaw, in_pad_now ? half_cell_ : padded)) return true;
   }
   return false;
@@ -133,14 +141,14 @@ double BodyGuard::free_length(double k, bool reverse, double max_m) const {
   }
 }
 
-bool BodyGuard::rotation_clear(double angle_rad) const {
+bool BodyGuard::rotation_clear(double angle_rad, double shift_m) const {
   if (crowded_) return false;
-  const Nearest n = nearest();
-  if (!n.found || n.d_m > swept_radius()) return true;  // the swept circle is clear
+  const Nearest n = nearest_around(Vec2(shift_m, 0.0), swept_radius());
+  if (!n.found) return true;  // the swept circle is clear
   const double span = std::fabs(angle_rad);
   const double dir = angle_rad < 0.0 ? -1.0 : 1.0;
   for (double a = std::min(kStepRad, span);; a = std::min(a + kStepRad, span)) {
-    if (hits(0.0, 0.0, dir * a)) return false;
+    if (hits(shift_m, 0.0, dir * a, shift_m)) return false;
     if (a >= span) return true;
   }
 }

@@ -33,9 +33,11 @@ class BodyGuard {
     double d_m = 0.0;  // centre to the cell's centre [m]
     Vec2 p{0.0, 0.0};  // the cell, body frame [m]
   };
-  // The gathered cell nearest the centre. ignore_side +1 (-1): cells beyond the padded body's
-  // left (right) side are left out (the far side of a gap when following the other one).
-  Nearest nearest(int ignore_side = 0) const;
+  // The gathered cell nearest the centre.
+  Nearest nearest() const;
+  // The cell nearest the centre among those within within_m of p (body frame): an obstacle's
+  // edge followed from tick to tick, never the far side of a gap.
+  Nearest nearest_around(const Vec2& p, double within_m) const;
 
   // From p (body frame) to the nearest gathered cell [m]; 1e300 when none was gathered.
   double distance_to(const Vec2& p) const;
@@ -44,6 +46,7 @@ class BodyGuard {
     double mean_side_m = 0.0;  // mean offset left of the line of the cells within depth_m past
                                // the first (which side of the line the obstacle lies on) [m]
     std::size_t cells = 0;     // those cells
+    Vec2 first_p{0.0, 0.0};    // the first cell, body frame [m]
   };
   // Along the unit direction dir (body frame): the cells whose centres lie ahead of the centre
   // within half_width_m of the line, up to length_m.
@@ -52,8 +55,9 @@ class BodyGuard {
   // How far [m] the padded body can move along an arc of curvature k [1/m] (forward, or backward
   // with reverse) before it meets a cell, up to max_m (returned when nothing is met).
   double free_length(double k, bool reverse, double max_m) const;
-  // The padded body can turn in place through angle_rad (its sign the direction) [rad].
-  bool rotation_clear(double angle_rad) const;
+  // The padded body can turn in place through angle_rad (its sign the direction) [rad], here or
+  // moved shift_m straight ahead (behind when negative) [m].
+  bool rotation_clear(double angle_rad, double shift_m = 0.0) const;
 
   std::size_t cells() const { return cells_.size(); }
   bool crowded() const { return crowded_; }
@@ -70,9 +74,9 @@ class BodyGuard {
   };
   // The cell lies in the body at (x, y, yaw) (body frame of the gather pose), grown by grow [m].
   bool inside(const Cell& c, double x, double y, double yaw, double grow) const;
-  // Some cell meets the body at (x, y, yaw): the padding for cells clear of it at the start,
-  // half a cell for cells already inside it.
-  bool hits(double x, double y, double yaw) const;
+  // Some cell meets the body at (x, y, yaw): the padding for cells clear of the body at (x0, 0,
+  // 0), half a cell for cells already inside it there.
+  bool hits(double x, double y, double yaw, double x0 = 0.0) const;
 
   double hl_, hw_, pad_, radius_;
   double half_cell_ = 0.0;  // of the grid last gathered [m]

@@ -21,6 +21,7 @@ constexpr double kEnterMarginM = 0.1;  // [m]
 constexpr double kClearAheadM = 0.8;   // [m]
 constexpr double kLeaveWidenM = 0.05;  // [m]
 constexpr double kLostM = 0.35;        // [m]
+constexpr double kTrackM = 0.2;        // the edge followed moves at most this far a tick [m]
 // The side: the mean offset across the line of the corridor's cells within kSideDepthM past the
 // first; within kSideTieM of the line, VFF's push decides.
 constexpr double kSideDepthM = 0.3;  // [m]
@@ -33,6 +34,9 @@ constexpr double kAwayM = 0.5;       // after having been this far from it [m]
 constexpr double kCreepMps = 0.02;      // [m/s]
 constexpr double kMaxCurvature = 20.0;  // [1/m]
 constexpr double kTurnMarginRad = 0.1;  // [rad]
+// A blocked turn: a place it is clear from is looked for every kEscapeStepM up to kEscapeM.
+constexpr double kEscapeStepM = 0.05;  // [m]
+constexpr double kEscapeM = 1.0;       // [m]
 
 // The follower as the mission drives it: its cruise speed is the mission's.
 VffConfig follower_config(const WaypointConfig& cfg) {
@@ -56,7 +60,7 @@ Status WaypointConfig::validate() const {
       .range("body_pad_m", body_pad_m, 0.0, 0.5, "m")
       .range("reaction_s", reaction_s, 0.0, 2.0, "s")
       .range("brake_decel_mps2", brake_decel_mps2, 0.05, 20.0, "m/s^2")
-      .range("backoff_speed_mps", backoff_speed_mps, 0.01, 1.0, "m/s")
+      .range("escape_speed_mps", escape_speed_mps, 0.01, 1.0, "m/s")
       .range("bypass_clearance_m", bypass_clearance_m, 0.0, 1.0, "m")
       .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
       .nested(follower_config(*this).validate())
@@ -123,8 +127,8 @@ void WaypointMission::enter(const MissionContext&) {
   target_ = 0;
   reached_ = skipped_ = laps_done_ = emergency_stops_ = 0;
   lap_times_.clear();
-  stopped_ = bypass_ = backing_ = false;
-  bypasses_ = backoffs_ = 0;
+  stopped_ = bypass_ = escaping_ = false;
+  bypasses_ = escapes_ = 0;
   fault_ = Fault::None;
 }
 
@@ -164,7 +168,7 @@ void WaypointMission::counters(MissionCounters& out) const {
   out.push_back({"best_lap_ms", static_cast<std::uint32_t>(std::lround(best * 1000.0))});
   out.push_back({"emergency_stops", emergency_stops_});
   out.push_back({"bypasses", bypasses_});
-  out.push_back({"backoffs", backoffs_});
+  out.push_back({"escapes", escapes_});
 }
 
 MissionOutput WaypointMission::fail(Fault f, const char* phase) {
@@ -209,7 +213,7 @@ void WaypointMission::begin_target(const MissionContext& ctx, const Pose2& pose)
   progress_at_ = Vec2(pose.x, pose.y);
   best_dist_ = closest_ = (cfg_.targets[target_] - progress_at_).norm();
   check_target_ = true;
-  stopped_ = backing_ = false;
+  stopped_ = escaping_ = false;
   bypass_ = false;
 }
 
@@ -287,7 +291,7 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
     if (v >= want.vx || v >= kCreepMps) {
       t.vx = v;
       t.wz = k * v;
-      stopped_ = backing_ = false;
+      stopped_ = escaping_ = false;
       return t;
     }
     stop = true;
@@ -297,23 +301,32 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
   // In place: the turn asked for, or what is left of a blocked arc. Straight on: hold.
   if (std::fabs(want.wz) < cfg_.turn_in_place_min_radps) {
     blocked_straight = stop;
-    backing_ = false;
+    escaping_ = false;
     return t;
   }
   const double horizon = std::fabs(want.wz) * cfg_.reaction_s + kTurnMarginRad;
   if (guard_.rotation_clear(std::copysign(horizon, want.wz))) {
     t.wz = want.wz;
-    backing_ = false;
+    escaping_ = false;
     return t;
   }
-  // A corner would touch: back off straight while the rear is clear, then turn.
-  const double back = stop_distance(cfg_.backoff_speed_mps);
-  const bool can = guard_.free_length(0.0, true, back) >= back;
-  if (can) {
-    if (!backing_) ++backoffs_;
-    t.vx = -cfg_.backoff_speed_mps;
+  // A corner would touch: move straight, ahead or back, to the nearest place within kEscapeM
+  // from which the turn is clear (behind first: the robot came from there).
+  const double turn = std::copysign(horizon, want.wz);
+  const double stop_m = stop_distance(cfg_.escape_speed_mps);
+  for (double d = kEscapeStepM; d <= kEscapeM + 1e-9; d += kEscapeStepM) {
+    for (const double dir : {-1.0, 1.0}) {
+      const double need = std::fmax(d, stop_m);
+      if (guard_.rotation_clear(turn, dir * d) &&
+          guard_.free_length(0.0, dir < 0.0, need) >= need) {
+        if (!escaping_) ++escapes_;
+        escaping_ = true;
+        t.vx = dir * cfg_.escape_speed_mps;
+        return t;
+      }
+    }
   }
-  backing_ = can;
+  escaping_ = false;  // nowhere near: hold (the stuck check ends it)
   return t;
 }
 
@@ -329,21 +342,21 @@ bool WaypointMission::in_the_way(const Pose2& pose, const Vec2& to_target, doubl
 }
 
 // Round on the side the obstacle in the corridor to the target leaves more of (the shorter way),
-// or, when it lies square across it, the side VFF's push leans to (away from the clutter).
+// or, when it lies square across it, the side VFF's push leans to (away from the clutter). The
+// edge followed starts at the corridor's first cell (the nearest cell without one).
 void WaypointMission::start_bypass(const Pose2& pose, const Vec2& to_target) {
   const Vec2 dir = to_robot(Pose2{0.0, 0.0, pose.yaw}, to_target);
   const BodyGuard::Corridor c = guard_.corridor(dir, guard_.half_width() + guard_.margin(),
                                                 keep_m() + kEnterMarginM, kSideDepthM);
+  const BodyGuard::Nearest n = guard_.nearest();
   if (c.cells > 0 && std::fabs(c.mean_side_m) > kSideTieM) {
     side_ = c.mean_side_m > 0.0 ? -1 : 1;
   } else {
     Vec2 push = vff_.repulsion();
-    if (push.squaredNorm() < 1e-12) {
-      const BodyGuard::Nearest n = guard_.nearest();
-      push = Vec2(pose.x, pose.y) - to_world(pose, n.p);
-    }
+    if (push.squaredNorm() < 1e-12) push = -n.p;
     side_ = to_target.x() * push.y() - to_target.y() * push.x() < 0.0 ? -1 : 1;
   }
+  edge_ = to_world(pose, c.cells > 0 ? c.first_p : n.p);
   bypass_ = true;
   bypass_from_ = Vec2(pose.x, pose.y);
   bypass_left_ = false;
@@ -352,27 +365,39 @@ void WaypointMission::start_bypass(const Pose2& pose, const Vec2& to_target) {
   go(State::Drive, kBypass);
 }
 
-// The edge followed is gone, or the robot is closer to the target than it ever was before the
+// The edge followed: the cell nearest the centre within kTrackM of where it was last tick. Another
+// obstacle met straight ahead within the keeping distance (a gap too narrow to follow the edge
+// through) becomes the edge: the two are gone round as one, on the same side.
+BodyGuard::Nearest WaypointMission::follow_edge(const Pose2& pose) {
+  const BodyGuard::Corridor ahead =
+      guard_.corridor(Vec2(1.0, 0.0), guard_.half_width() + guard_.margin(), keep_m());
+  if (ahead.first_m < keep_m() && (to_world(pose, ahead.first_p) - edge_).norm() > kTrackM) {
+    edge_ = to_world(pose, ahead.first_p);
+  }
+  const BodyGuard::Nearest e = guard_.nearest_around(to_robot(pose, edge_), kTrackM);
+  if (e.found) edge_ = to_world(pose, e.p);
+  return e;
+}
+
+// The edge followed is lost, or the robot is closer to the target than it ever was before the
 // bypass (as in Bug2: no drive-bypass cycle repeats) and the body's corridor toward the target (a
 // little wider than the one that began the bypass) is clear for kClearAheadM.
-bool WaypointMission::bypass_over(const Pose2& pose, const Vec2& to_target, double dist) const {
-  const BodyGuard::Nearest n = guard_.nearest(side_);
-  if (!n.found || n.d_m > keep_m() + kLostM) return true;
+bool WaypointMission::bypass_over(const Pose2& pose, const BodyGuard::Nearest& edge,
+                                  const Vec2& to_target, double dist) const {
+  if (!edge.found || edge.d_m > keep_m() + kLostM) return true;
   const Vec2 dir = to_robot(Pose2{0.0, 0.0, pose.yaw}, to_target);
   const double look = std::fmin(kClearAheadM, dist);
   const double half = guard_.half_width() + guard_.margin() + kLeaveWidenM;
   return dist < bypass_best_ && guard_.corridor(dir, half, look).first_m >= look;
 }
 
-// Along the edge on side_ (cells on the other side, across a gap, left out), steering back to the
-// keeping distance.
-Twist WaypointMission::bypass_twist() const {
+// Along the edge with it on side_'s other hand, steering back to the keeping distance.
+Twist WaypointMission::bypass_twist(const BodyGuard::Nearest& edge) const {
   Twist t;
-  const BodyGuard::Nearest n = guard_.nearest(side_);
-  if (!n.found || n.d_m < 1e-6) return t;
-  const Vec2 away = -n.p / n.d_m;  // body frame, edge to centre
+  if (!edge.found || edge.d_m < 1e-6) return t;
+  const Vec2 away = -edge.p / edge.d_m;  // body frame, edge to centre
   const Vec2 along = side_ > 0 ? Vec2(away.y(), -away.x()) : Vec2(-away.y(), away.x());
-  const Vec2 h = along + clampd(kKeepGain * (keep_m() - n.d_m), -1.0, 1.0) * away;
+  const Vec2 h = along + clampd(kKeepGain * (keep_m() - edge.d_m), -1.0, 1.0) * away;
   const double err = std::atan2(h.y(), h.x());
   const VffConfig& v = cfg_.vff;
   t.wz = clampd(v.turn_gain * err, -v.max_yaw_rate_radps, v.max_yaw_rate_radps);
@@ -419,14 +444,18 @@ MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pos
     const double from = (here - bypass_from_).norm();
     bypass_left_ = bypass_left_ || from > kAwayM;
     if (bypass_left_ && from < kCircledM) return unreachable(ctx, pose, Fault::NoPath, "stuck");
-    if (bypass_over(pose, to_target, dist)) {
-      bypass_ = false;
-      go(State::Drive, kDrive);
-    }
   } else if (cfg_.bypass && !skipped && in_the_way(pose, to_target, dist)) {
     start_bypass(pose, to_target);
   }
-  if (bypass_) want = bypass_twist();
+  if (bypass_) {
+    const BodyGuard::Nearest edge = follow_edge(pose);
+    if (bypass_over(pose, edge, to_target, dist)) {
+      bypass_ = false;
+      go(State::Drive, kDrive);
+    } else {
+      want = bypass_twist(edge);
+    }
+  }
   MissionOutput out;
   bool blocked_straight = false;
   out.motion.twist = guarded(want, blocked_straight);
@@ -436,7 +465,7 @@ MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pos
     const BodyGuard::Nearest n = guard_.nearest();
     if (n.found && (to_world(pose, n.p) - target).norm() > keep_m()) {
       start_bypass(pose, to_target);
-      out.motion.twist = guarded(bypass_twist(), blocked_straight);
+      out.motion.twist = guarded(bypass_twist(follow_edge(pose)), blocked_straight);
     }
   }
   return out;

@@ -78,7 +78,7 @@ struct WaypointConfig {
   double body_pad_m = 0.05;        // kept round the body in every collision check [m]
   double reaction_s = 0.2;         // command to braking, and the costmap's staleness [s]
   double brake_decel_mps2 = 0.5;   // deceleration the stopping distance assumes [m/s^2]
-  double backoff_speed_mps = 0.1;  // reversing while a wanted turn is blocked [m/s]
+  double escape_speed_mps = 0.1;   // moving to where a blocked turn is clear [m/s]
   // A blocked robot turns in place only when the follower turns at least this fast [rad/s].
   double turn_in_place_min_radps = 0.2;
   // Go round an obstacle on the line to the target (BYPASS) instead of holding until stuck.
@@ -112,7 +112,8 @@ class WaypointMission final : public Mission {
   std::uint32_t laps_done() const { return laps_done_; }
   std::uint32_t emergency_stops() const { return emergency_stops_; }
   std::uint32_t bypasses() const { return bypasses_; }  // times the robot went round an obstacle
-  std::uint32_t backoffs() const { return backoffs_; }  // times it backed off from a blocked turn
+  // Times it moved straight, ahead or back, to where a blocked turn was clear.
+  std::uint32_t escapes() const { return escapes_; }
   // Time of each finished lap, in order [s].
   const StaticVector<double, WaypointConfig::kMaxLaps>& lap_times() const { return lap_times_; }
   bool holonomic() const { return holonomic_; }
@@ -133,8 +134,10 @@ class WaypointMission final : public Mission {
   Twist guarded(const Twist& want, bool& blocked_straight);
   bool in_the_way(const Pose2& pose, const Vec2& to_target, double dist) const;
   void start_bypass(const Pose2& pose, const Vec2& to_target);
-  bool bypass_over(const Pose2& pose, const Vec2& to_target, double dist) const;
-  Twist bypass_twist() const;
+  BodyGuard::Nearest follow_edge(const Pose2& pose);
+  bool bypass_over(const Pose2& pose, const BodyGuard::Nearest& edge, const Vec2& to_target,
+                   double dist) const;
+  Twist bypass_twist(const BodyGuard::Nearest& edge) const;
   MissionOutput fail(Fault f, const char* phase);
 
   WaypointConfig cfg_;
@@ -161,11 +164,12 @@ class WaypointMission final : public Mission {
   int side_ = 1;                // round it on the left (+1) or the right (-1)
   Vec2 progress_at_{0.0, 0.0};  // where the last progress was made [m]
   Vec2 bypass_from_{0.0, 0.0};  // where this bypass began [m]
+  Vec2 edge_{0.0, 0.0};         // the point of the obstacle's edge followed [m]
   bool bypass_left_ = false;    // this bypass has been well away from where it began
   double closest_ = 0.0;        // closest to the target outside bypasses [m]
   double bypass_best_ = 0.0;    // closest_ when this bypass began [m]
-  std::uint32_t bypasses_ = 0, backoffs_ = 0;
-  bool backing_ = false;  // backing off last tick
+  std::uint32_t bypasses_ = 0, escapes_ = 0;
+  bool escaping_ = false;  // moving to where a blocked turn is clear, last tick
   BodyGuard guard_;
   Fault fault_ = Fault::None;
 };
