@@ -89,5 +89,48 @@ TEST(WaypointCourseTest, MovesBackBeforeTurningWhenACornerWouldTouch) {
   EXPECT_EQ(counter(*b.mission, "escapes"), b.mission->escapes());
 }
 
+// Between the course's box (0.5, 3.0) and its post (-0.3, 1.0), 1.5 m apart, toward the target
+// (-0.5, 2.0) beyond: VFF pushed by the inflated band round both would fill its push's cap with a
+// push square against the pull, and the heading would swing to and fro (5 to 6 rad of turning);
+// pushed by the lethal cells only, the robot drives through nearly straight.
+TEST(WaypointCourseTest, DrivesStraightThroughAGapBetweenTwoObstacles) {
+  for (double y0 : {1.4, 1.6, 1.8}) {
+    SCOPED_TRACE(y0);
+    SimCourse s;
+    Bench& b = s.bench;
+    b.cfg.targets.clear();
+    b.cfg.targets.push_back(Vec2(-0.5, 2.0));
+    b.cfg.laps = 1;
+    b.pose = Pose2{1.2, y0, 3.0};
+    b.start();
+    b.run(30.0);
+    EXPECT_EQ(b.mission->current(), WaypointMission::State::Done);
+    EXPECT_LT(b.turned_rad, 1.0);  // at least 0.1 rad to face the target
+    EXPECT_EQ(b.mission->bypasses(), 0u);
+  }
+}
+
+// A U-shaped pocket opening toward the robot, the target behind its bottom: VFF drives into the
+// pocket and the robot goes round from its bottom. Its corridor to the target clears in the
+// pocket's mouth, farther from the target than where the bypass began; left there, VFF would
+// drive it back in, bypass and leave again until the timeout. It leaves only closer to the
+// target than it ever was before the bypass (as in Bug2), here round the pocket's outside.
+TEST(WaypointCourseTest, ABypassEndsOnlyCloserToTheTargetThanItBegan) {
+  Bench b;
+  b.costmap.box(2.0, 0.0, 0.0, 0.1, 2.1);  // the bottom
+  b.costmap.box(1.4, 1.0, 0.0, 1.3, 0.1);  // the arms
+  b.costmap.box(1.4, -1.0, 0.0, 1.3, 0.1);
+  b.cfg.targets.push_back(Vec2(3.5, 0.0));
+  b.start();
+  b.run(120.0);
+  ASSERT_EQ(b.mission->current(), WaypointMission::State::Done) << b.mission->state().phase;
+  EXPECT_GE(b.mission->bypasses(), 1u);
+  for (std::size_t i = 1; i < b.phases.size(); ++i) {
+    if (b.phases[i] != "drive" || b.phases[i - 1] != "bypass") continue;
+    EXPECT_LT(b.phase_dist[i], b.phase_dist[i - 1]) << "bypass left at change " << i;
+  }
+  EXPECT_GT(b.min_body_clearance, 0.05);
+}
+
 }  // namespace
 }  // namespace carril::fw

@@ -5,6 +5,7 @@
 // centre ever stood on a lethal cell and how close the body's rectangle came to one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -123,12 +124,14 @@ struct Bench {
   // The robot's own limits, as the firmware's MotionLimiter applies them (0: none).
   double max_accel_mps2 = 0.0, max_yaw_accel_radps2 = 0.0;
   Twist moving;                     // the twist the robot drives at
+  double turned_rad = 0.0;          // all the turning, either way [rad]
   bool on_lethal = false;           // the centre on a lethal cell
   double min_clearance = 1e9;       // centre to the nearest post's edge [m]
   double min_body_clearance = 1e9;  // body's rectangle to the nearest lethal cell [m]
   std::vector<std::size_t> order;   // the target index at every reach
   std::vector<double> reach_miss;   // distance to the reached target then [m]
   std::vector<std::string> phases;  // every phase change reported
+  std::vector<double> phase_dist;   // the distance to the current target at each [m]
   bool allocations_counted = false;
 
   void start() {
@@ -150,7 +153,11 @@ struct Bench {
       if (allocations_counted) test::alloc::begin_window();
       out = mission->update(ctx);
       if (allocations_counted) test::alloc::end_window();
-      if (const char* p = mission->take_phase_change()) phases.push_back(p);
+      if (const char* p = mission->take_phase_change()) {
+        phases.push_back(p);
+        const std::size_t k = std::min(mission->target_index(), cfg.targets.size() - 1);
+        phase_dist.push_back((cfg.targets[k] - Vec2(pose.x, pose.y)).norm());
+      }
       if (mission->targets_reached() != before) {
         order.push_back(target);
         reach_miss.push_back((cfg.targets[target] - Vec2(pose.x, pose.y)).norm());
@@ -176,6 +183,7 @@ struct Bench {
       t.wz = clampd(t.wz, moving.wz - dw, moving.wz + dw);
     }
     moving = t;
+    turned_rad += std::fabs(t.wz) * 0.01;
     pose.x += std::cos(pose.yaw) * t.vx * 0.01;
     pose.y += std::sin(pose.yaw) * t.vx * 0.01;
     pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
