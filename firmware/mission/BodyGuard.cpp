@@ -26,6 +26,11 @@ void BodyGuard::gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid)
   crowded_ = false;
   if (!grid.ready()) return;
   half_cell_ = 0.5 * grid.resolution();
+  // Nowhere known: nothing may move.
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.yaw)) {
+    crowded_ = true;
+    return;
+  }
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   const int x0 = grid.cell_of(pose.x - radius_), x1 = grid.cell_of(pose.x + radius_);
   const int y0 = grid.cell_of(pose.y - radius_), y1 = grid.cell_of(pose.y + radius_);

@@ -4,7 +4,7 @@
 // in place, which cell is nearest. A square body turning in place sweeps its circumscribed
 // circle, not its inscribed one: its corners are checked, not only its front edge.
 //
-// Every check pads the body by pad_m plus half a cell (a cell is a 5 cm square, not its centre).
+// Every check pads the body by pad_m plus half a cell (a cell is a square, not its centre).
 // A cell already inside that padding at the current pose only stops the bare body (plus half a
 // cell): moving along a wall passed close is allowed, moving into it is not.
 #include <cstddef>
@@ -18,7 +18,8 @@ namespace carril::fw {
 
 class BodyGuard {
  public:
-  // Cells gathered per tick; a window holding more is "crowded" and every check reports blocked.
+  // Cells gathered per tick; a window holding more (or a non-finite pose) is "crowded": every
+  // motion check reports blocked.
   static constexpr std::size_t kMaxCells = 2048;
 
   // The body's half length and half width [m], the clearance kept round it [m], and the radius

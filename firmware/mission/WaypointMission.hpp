@@ -10,25 +10,31 @@
 //   DRIVE phases: "drive" (VFF) <--> "bypass" (round an obstacle in the way, see below)
 //
 // Unreachable: no progress of stuck_progress_m toward the target for stuck_time_s ("stuck"; while
-// going round an obstacle, moving stuck_progress_m along its edge counts as progress, coming back
-// to where the bypass began does not), or not reached within target_timeout_s ("timeout"): fault
-// no_path. A target on or next to a cell the 2D lidar sees as lethal (the robot within
-// reach_radius_m of it would touch it): goal_invalid, checked when the target becomes current and
-// at every costmap update.
+// going round an obstacle, moving stuck_progress_m along its edge counts as progress, but coming
+// back to where the bypass began is "stuck" at once), or not reached within target_timeout_s
+// ("timeout"): fault no_path. A target on or next to a cell the 2D lidar sees as lethal (the
+// robot within reach_radius_m of it would touch it): goal_invalid, checked when the target
+// becomes current and at every costmap update.
 //
 // Every twist, VFF's or the bypass's, passes the body guard (BodyGuard: the costmap's lethal
-// cells against the rectangular body padded by body_pad_m, corners included): the forward speed
+// cells against the rectangular body padded by body_pad_m, corners included). The forward speed
 // is cut to what stops, within reaction_s and at brake_decel_mps2, emergency_stop_m short of the
-// first cell on the arc driven; blocked, the robot turns in place only when the turn is clear of
-// the corners, and backs off straight (rear clear) when it is not. VFF's pull is never cancelled
-// by its push, so alone it would drive into an obstacle on the line to the target: when such an
-// obstacle comes within the bypass distance (the padded body's swept circle plus
-// bypass_clearance_m, plus 0.1 m) the robot goes round it (phase "bypass"): it follows the
-// obstacle's edge at that distance from its centre, so it can always turn in place, on the side
-// VFF's push leans to, until the target lies clear of the obstacle (the edge point beside it at
-// least 85 degrees off the target's direction), then VFF drives again. A target at an obstacle
-// (within the bypass distance of it) is not gone round: the guard holds the robot short and the
-// stuck check ends it. With bypass off the robot holds there too.
+// first cell on the arc driven. Stopped, the robot turns in place only when the turn clears the
+// corners; when it does not, it moves straight, ahead or back (up to 1 m), to the nearest place
+// from which it does ("escapes"), or holds.
+//
+// VFF's pull is never cancelled by its push, so alone it would drive into an obstacle on the line
+// to the target. A lethal cell in the body's corridor toward the target (within the padded half
+// width of the line) nearer than the bypass distance plus 0.1 m, or the guard holding a straight
+// drive, starts a bypass (phase "bypass"): the robot follows the obstacle's edge with its centre
+// at the bypass distance (the padded body's swept circle plus bypass_clearance_m: it can always
+// turn in place there), on the side where the obstacle leaves more of the corridor (VFF's push
+// decides a tie). An obstacle met straight ahead while following joins the edge (a gap too narrow
+// to follow through is gone round outside). The bypass ends when the corridor to the target, 5 cm
+// wider, is clear for 0.8 m and the robot is closer to the target than it ever was before the
+// bypass (as in Bug2: no drive-bypass cycle repeats), or when the edge is lost. A target at an
+// obstacle (within the bypass distance of it) is not gone round: the guard holds the robot short
+// and the stuck check ends it. With bypass off the robot holds there too.
 #include <cstddef>
 #include <cstdint>
 
@@ -155,7 +161,7 @@ class WaypointMission final : public Mission {
   StaticVector<double, WaypointConfig::kMaxLaps> lap_times_;
   double lap_t0_ = 0.0;      // this lap began [s]
   double target_t0_ = 0.0;   // this target became current [s]
-  double best_dist_ = 0.0;   // closest to the target so far [m]
+  double best_dist_ = 0.0;   // distance at the last progress toward the target [m]
   double progress_t_ = 0.0;  // last progress toward it [s]
   std::uint32_t seen_updates_ = 0;
   bool check_target_ = false;   // the current target not yet checked against the lidar layer

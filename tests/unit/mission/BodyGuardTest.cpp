@@ -137,5 +137,16 @@ TEST(BodyGuardTest, MoreCellsThanItHoldsBlocksEverything) {
   EXPECT_FALSE(b.rotation_clear(0.1));
 }
 
+TEST(BodyGuardTest, ANonFinitePoseBlocksEverything) {
+  Grid m;
+  BodyGuard b = square();
+  b.gather(Pose2{NAN, 0.0, 0.0}, m.g);
+  EXPECT_TRUE(b.crowded());
+  EXPECT_EQ(b.free_length(0.0, false, 0.5), 0.0);
+  EXPECT_FALSE(b.rotation_clear(0.1));
+  b.gather(Pose2{0.0, 0.0, 0.0}, m.g);
+  EXPECT_FALSE(b.crowded());
+}
+
 }  // namespace
 }  // namespace carril::fw
