@@ -14,6 +14,30 @@ constexpr const char* kDrive = "drive";
 constexpr const char* kBypass = "bypass";
 constexpr const char* kSkip = "skip";  // one tick: a target was given up, the next one is current
 
+// BYPASS: begins with a cell in the corridor to the target within its keeping distance plus
+// kEnterMarginM; ends when that corridor, kLeaveWidenM wider, is clear for kClearAheadM, or when
+// the edge followed is farther than the keeping distance plus kLostM.
+constexpr double kEnterMarginM = 0.1;  // [m]
+constexpr double kClearAheadM = 0.8;   // [m]
+constexpr double kLeaveWidenM = 0.05;  // [m]
+constexpr double kLostM = 0.35;        // [m]
+constexpr double kTrackM = 0.2;        // the edge followed moves at most this far a tick [m]
+// The side: the mean offset across the line of the corridor's cells within kSideDepthM past the
+// first; within kSideTieM of the line, VFF's push decides.
+constexpr double kSideDepthM = 0.3;  // [m]
+constexpr double kSideTieM = 0.05;   // [m]
+constexpr double kKeepGain = 4.0;    // heading correction per metre off the keeping distance [1/m]
+constexpr double kCircledM = 0.2;    // back this close to where the bypass began: circled [m]
+constexpr double kAwayM = 0.5;       // after having been this far from it [m]
+// The guard: a cut forward speed below kCreepMps is a stop; arcs are checked no tighter than
+// kMaxCurvature; a turn in place is checked kTurnMarginRad beyond what it turns in reaction_s.
+constexpr double kCreepMps = 0.02;      // [m/s]
+constexpr double kMaxCurvature = 20.0;  // [1/m]
+constexpr double kTurnMarginRad = 0.1;  // [rad]
+// A blocked turn: a place it is clear from is looked for every kEscapeStepM up to kEscapeM.
+constexpr double kEscapeStepM = 0.05;  // [m]
+constexpr double kEscapeM = 1.0;       // [m]
+
 // The follower as the mission drives it: its cruise speed is the mission's.
 VffConfig follower_config(const WaypointConfig& cfg) {
   VffConfig v = cfg.vff;
@@ -33,6 +57,11 @@ Status WaypointConfig::validate() const {
       .range("stuck_time_s", stuck_time_s, 0.5, 3600.0, "s")
       .range("stuck_progress_m", stuck_progress_m, 0.01, 5.0, "m")
       .range("emergency_stop_m", emergency_stop_m, 0.0, 1.0, "m")
+      .range("body_pad_m", body_pad_m, 0.0, 0.5, "m")
+      .range("reaction_s", reaction_s, 0.0, 2.0, "s")
+      .range("brake_decel_mps2", brake_decel_mps2, 0.05, 20.0, "m/s^2")
+      .range("escape_speed_mps", escape_speed_mps, 0.01, 1.0, "m/s")
+      .range("bypass_clearance_m", bypass_clearance_m, 0.0, 1.0, "m")
       .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
       .nested(follower_config(*this).validate())
       .range("bypass_speed_mps", bypass_speed_mps, 0.01, speed_mps, "m/s");
@@ -69,7 +98,15 @@ WaypointMission::WaypointMission(const WaypointConfig& cfg, const Footprint& foo
       holonomic_(holonomic),
       vff_(follower_config(cfg)),
       pose_(pose),
-      costmap_(costmap) {}
+      costmap_(costmap),
+      // Gathered: what the keeping distance and the longest stopping distance can reach.
+      guard_(footprint.half_length_m, footprint.half_width_m, cfg.body_pad_m,
+             std::hypot(footprint.half_length_m, footprint.half_width_m) + cfg.body_pad_m +
+                 std::fmax(cfg.bypass_clearance_m + kEnterMarginM + kLostM,
+                           cfg.speed_mps * cfg.reaction_s +
+                               cfg.speed_mps * cfg.speed_mps / (2.0 * cfg.brake_decel_mps2) +
+                               cfg.emergency_stop_m) +
+                 0.1) {}
 
 void WaypointMission::go(State s, const char* phase) {
   if (s != state_ || phase != phase_) phase_change_ = phase;
@@ -90,8 +127,8 @@ void WaypointMission::enter(const MissionContext&) {
   target_ = 0;
   reached_ = skipped_ = laps_done_ = emergency_stops_ = 0;
   lap_times_.clear();
-  stopped_ = bypass_ = false;
-  bypasses_ = 0;
+  stopped_ = bypass_ = escaping_ = false;
+  bypasses_ = escapes_ = 0;
   fault_ = Fault::None;
 }
 
@@ -131,6 +168,7 @@ void WaypointMission::counters(MissionCounters& out) const {
   out.push_back({"best_lap_ms", static_cast<std::uint32_t>(std::lround(best * 1000.0))});
   out.push_back({"emergency_stops", emergency_stops_});
   out.push_back({"bypasses", bypasses_});
+  out.push_back({"escapes", escapes_});
 }
 
 MissionOutput WaypointMission::fail(Fault f, const char* phase) {
@@ -172,9 +210,10 @@ MissionOutput WaypointMission::update(const MissionContext& ctx) {
 void WaypointMission::begin_target(const MissionContext& ctx, const Pose2& pose) {
   vff_.reset();
   target_t0_ = progress_t_ = ctx.t_s;
-  best_dist_ = (cfg_.targets[target_] - Vec2(pose.x, pose.y)).norm();
+  progress_at_ = Vec2(pose.x, pose.y);
+  best_dist_ = closest_ = (cfg_.targets[target_] - progress_at_).norm();
   check_target_ = true;
-  stopped_ = false;
+  stopped_ = escaping_ = false;
   bypass_ = false;
 }
 
@@ -224,19 +263,146 @@ bool WaypointMission::target_in_obstacle() const {
   return false;
 }
 
-// A lethal master cell on the body's cross line emergency_stop_m ahead of its front edge,
-// sampled every half cell across the width, both edges included.
-bool WaypointMission::lethal_ahead(const Pose2& pose) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
-  const double x_body = footprint_.half_length_m + cfg_.emergency_stop_m;
-  const double w = footprint_.half_width_m;
-  const int n = std::max(1, static_cast<int>(std::ceil(2.0 * w / (0.5 * m.resolution()))));
-  for (int k = 0; k <= n; ++k) {
-    const Vec2 p = to_world(pose, Vec2(x_body, -w + 2.0 * w * k / n));
-    int cx = 0, cy = 0;
-    if (m.world_to_cell(p.x(), p.y(), cx, cy) && m.at(cx, cy) == cost::kLethal) return true;
+double WaypointMission::stop_distance(double v) const {
+  return v * cfg_.reaction_s + v * v / (2.0 * cfg_.brake_decel_mps2) + cfg_.emergency_stop_m;
+}
+
+// The root of v reaction + v^2 / (2 decel) = free - emergency_stop_m.
+double WaypointMission::speed_for(double free_m) const {
+  const double room = free_m - cfg_.emergency_stop_m;
+  if (!(room > 0.0)) return 0.0;
+  const double a = cfg_.brake_decel_mps2, t = cfg_.reaction_s;
+  return a * (std::sqrt(t * t + 2.0 * room / a) - t);
+}
+
+double WaypointMission::keep_m() const {
+  return guard_.swept_radius() + cfg_.bypass_clearance_m;
+}
+
+Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
+  blocked_straight = false;
+  Twist t;
+  bool stop = false;
+  if (want.vx > 0.0) {
+    // Along the arc asked for, as fast as stops short of its first cell.
+    const double k = clampd(want.wz / want.vx, -kMaxCurvature, kMaxCurvature);
+    const double reach = stop_distance(want.vx);
+    const double v = std::fmin(want.vx, speed_for(guard_.free_length(k, false, reach)));
+    if (v >= want.vx || v >= kCreepMps) {
+      t.vx = v;
+      t.wz = k * v;
+      stopped_ = escaping_ = false;
+      return t;
+    }
+    stop = true;
   }
-  return false;
+  if (stop && !stopped_) ++emergency_stops_;
+  stopped_ = stop;
+  // In place: the turn asked for, or what is left of a blocked arc. Straight on: hold.
+  if (std::fabs(want.wz) < cfg_.turn_in_place_min_radps) {
+    blocked_straight = stop;
+    escaping_ = false;
+    return t;
+  }
+  const double horizon = std::fabs(want.wz) * cfg_.reaction_s + kTurnMarginRad;
+  if (guard_.rotation_clear(std::copysign(horizon, want.wz))) {
+    t.wz = want.wz;
+    escaping_ = false;
+    return t;
+  }
+  // A corner would touch: move straight, ahead or back, to the nearest place within kEscapeM
+  // from which the turn is clear (behind first: the robot came from there).
+  const double turn = std::copysign(horizon, want.wz);
+  const double stop_m = stop_distance(cfg_.escape_speed_mps);
+  for (double d = kEscapeStepM; d <= kEscapeM + 1e-9; d += kEscapeStepM) {
+    for (const double dir : {-1.0, 1.0}) {
+      const double need = std::fmax(d, stop_m);
+      if (guard_.rotation_clear(turn, dir * d) &&
+          guard_.free_length(0.0, dir < 0.0, need) >= need) {
+        if (!escaping_) ++escapes_;
+        escaping_ = true;
+        t.vx = dir * cfg_.escape_speed_mps;
+        return t;
+      }
+    }
+  }
+  escaping_ = false;  // nowhere near: hold (the stuck check ends it)
+  return t;
+}
+
+// The body's corridor toward the target meets a cell within the bypass distance, nearer than the
+// target and not at it (a target at an obstacle cannot be gone round to).
+bool WaypointMission::in_the_way(const Pose2& pose, const Vec2& to_target, double dist) const {
+  const Vec2 dir = to_robot(Pose2{0.0, 0.0, pose.yaw}, to_target);
+  const double look = std::fmin(keep_m() + kEnterMarginM, dist);
+  if (guard_.corridor(dir, guard_.half_width() + guard_.margin(), look).first_m >= look) {
+    return false;
+  }
+  return guard_.distance_to(dir * dist) > keep_m();
+}
+
+// Round on the side the obstacle in the corridor to the target leaves more of (the shorter way),
+// or, when it lies square across it, the side VFF's push leans to (away from the clutter). The
+// edge followed starts at the corridor's first cell (the nearest cell without one).
+void WaypointMission::start_bypass(const Pose2& pose, const Vec2& to_target) {
+  const Vec2 dir = to_robot(Pose2{0.0, 0.0, pose.yaw}, to_target);
+  const BodyGuard::Corridor c = guard_.corridor(dir, guard_.half_width() + guard_.margin(),
+                                                keep_m() + kEnterMarginM, kSideDepthM);
+  const BodyGuard::Nearest n = guard_.nearest();
+  if (c.cells > 0 && std::fabs(c.mean_side_m) > kSideTieM) {
+    side_ = c.mean_side_m > 0.0 ? -1 : 1;
+  } else {
+    Vec2 push = vff_.repulsion();
+    if (push.squaredNorm() < 1e-12) push = -n.p;
+    side_ = to_target.x() * push.y() - to_target.y() * push.x() < 0.0 ? -1 : 1;
+  }
+  edge_ = to_world(pose, c.cells > 0 ? c.first_p : n.p);
+  bypass_ = true;
+  bypass_from_ = Vec2(pose.x, pose.y);
+  bypass_left_ = false;
+  bypass_best_ = closest_;
+  ++bypasses_;
+  go(State::Drive, kBypass);
+}
+
+// The edge followed: the cell nearest the centre within kTrackM of where it was last tick. Another
+// obstacle met straight ahead within the keeping distance (a gap too narrow to follow the edge
+// through) becomes the edge: the two are gone round as one, on the same side.
+BodyGuard::Nearest WaypointMission::follow_edge(const Pose2& pose) {
+  const BodyGuard::Corridor ahead =
+      guard_.corridor(Vec2(1.0, 0.0), guard_.half_width() + guard_.margin(), keep_m());
+  if (ahead.first_m < keep_m() && (to_world(pose, ahead.first_p) - edge_).norm() > kTrackM) {
+    edge_ = to_world(pose, ahead.first_p);
+  }
+  const BodyGuard::Nearest e = guard_.nearest_around(to_robot(pose, edge_), kTrackM);
+  if (e.found) edge_ = to_world(pose, e.p);
+  return e;
+}
+
+// The edge followed is lost, or the robot is closer to the target than it ever was before the
+// bypass (as in Bug2: no drive-bypass cycle repeats) and the body's corridor toward the target (a
+// little wider than the one that began the bypass) is clear for kClearAheadM.
+bool WaypointMission::bypass_over(const Pose2& pose, const BodyGuard::Nearest& edge,
+                                  const Vec2& to_target, double dist) const {
+  if (!edge.found || edge.d_m > keep_m() + kLostM) return true;
+  const Vec2 dir = to_robot(Pose2{0.0, 0.0, pose.yaw}, to_target);
+  const double look = std::fmin(kClearAheadM, dist);
+  const double half = guard_.half_width() + guard_.margin() + kLeaveWidenM;
+  return dist < bypass_best_ && guard_.corridor(dir, half, look).first_m >= look;
+}
+
+// Along the edge with it on side_'s other hand, steering back to the keeping distance.
+Twist WaypointMission::bypass_twist(const BodyGuard::Nearest& edge) const {
+  Twist t;
+  if (!edge.found || edge.d_m < 1e-6) return t;
+  const Vec2 away = -edge.p / edge.d_m;  // body frame, edge to centre
+  const Vec2 along = side_ > 0 ? Vec2(away.y(), -away.x()) : Vec2(-away.y(), away.x());
+  const Vec2 h = along + clampd(kKeepGain * (keep_m() - edge.d_m), -1.0, 1.0) * away;
+  const double err = std::atan2(h.y(), h.x());
+  const VffConfig& v = cfg_.vff;
+  t.wz = clampd(v.turn_gain * err, -v.max_yaw_rate_radps, v.max_yaw_rate_radps);
+  if (std::fabs(err) <= v.turn_in_place_rad) t.vx = cfg_.bypass_speed_mps * std::cos(err);
+  return t;
 }
 
 MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pose) {
@@ -246,77 +412,62 @@ MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pos
     if (target_in_obstacle()) return unreachable(ctx, pose, Fault::GoalInvalid, "goal_invalid");
   }
   const Vec2& target = cfg_.targets[target_];
-  const double dist = (target - Vec2(pose.x, pose.y)).norm();
+  const Vec2 here(pose.x, pose.y);
+  const double dist = (target - here).norm();
   if (dist <= cfg_.reach_radius_m || vff_.at_end()) {
     ++reached_;
     return next_target(ctx, pose);
   }
-  if (dist < best_dist_ - cfg_.stuck_progress_m) {
-    best_dist_ = dist;
+  // Progress: closer to the target than ever, or, going round an obstacle, along its edge.
+  if (dist < best_dist_ - cfg_.stuck_progress_m ||
+      (bypass_ && (here - progress_at_).norm() >= cfg_.stuck_progress_m)) {
+    best_dist_ = std::fmin(best_dist_, dist);
     progress_t_ = ctx.t_s;
+    progress_at_ = here;
   }
   if (ctx.t_s - progress_t_ > cfg_.stuck_time_s) {
     return unreachable(ctx, pose, Fault::NoPath, "stuck");
   }
+  if (!bypass_) closest_ = std::fmin(closest_, dist);
   if (ctx.t_s - target_t0_ > cfg_.target_timeout_s) {
     return unreachable(ctx, pose, Fault::NoPath, "timeout");
   }
 
-  if (!bypass_ && phase_ != kDrive) go(State::Drive, kDrive);  // after a skip
-  MissionOutput out;
+  // After a skip: DRIVE for a tick at least (a phase change a tick is reported).
+  const bool skipped = !bypass_ && phase_ != kDrive;
+  if (skipped) go(State::Drive, kDrive);
+  guard_.gather(pose, costmap_.master());
+  const Vec2 to_target = (target - here) / dist;
   // The target alone is the path: the pull is straight at it.
-  out.motion.twist = vff_.update(pose, &target, 1, costmap_.master());
-  const bool blocked = lethal_ahead(pose);
+  Twist want = vff_.update(pose, &target, 1, costmap_.master());
   if (bypass_) {
-    // Round the obstacle until it no longer stands between the robot and the target (the push
-    // no longer opposes the pull) and the front is clear.
-    const bool behind = vff_.attraction().dot(vff_.repulsion()) >= 0.0;
-    if (!(behind && !blocked)) return bypass_step(pose, blocked);
-    bypass_ = false;
-    go(State::Drive, kDrive);
+    const double from = (here - bypass_from_).norm();
+    bypass_left_ = bypass_left_ || from > kAwayM;
+    if (bypass_left_ && from < kCircledM) return unreachable(ctx, pose, Fault::NoPath, "stuck");
+  } else if (cfg_.bypass && !skipped && in_the_way(pose, to_target, dist)) {
+    start_bypass(pose, to_target);
   }
-  const bool stop = out.motion.twist.vx > 0.0 && blocked;
-  if (stop) {
-    if (!stopped_) ++emergency_stops_;
-    out.motion.twist.vx = 0.0;
-    out.motion.twist.vy = 0.0;
-    // Turning: in place (the front is what is close). Straight on, into a local minimum of the
-    // forces: round the obstacle, on the side the push leans to (left when it does not lean).
-    if (std::fabs(out.motion.twist.wz) < cfg_.turn_in_place_min_radps) {
-      out.motion.twist.wz = 0.0;
-      const Vec2 r = vff_.repulsion();
-      if (cfg_.bypass && r.squaredNorm() > 1e-12) {
-        const double lateral = -std::sin(pose.yaw) * r.x() + std::cos(pose.yaw) * r.y();
-        side_ = lateral < 0.0 ? -1 : 1;
-        bypass_ = true;
-        ++bypasses_;
-        go(State::Drive, kBypass);
-        stopped_ = stop;
-        return bypass_step(pose, blocked);
-      }
+  if (bypass_) {
+    const BodyGuard::Nearest edge = follow_edge(pose);
+    if (bypass_over(pose, edge, to_target, dist)) {
+      bypass_ = false;
+      go(State::Drive, kDrive);
+    } else {
+      want = bypass_twist(edge);
     }
   }
-  stopped_ = stop;
-  return out;
-}
-
-// Along the obstacle's edge: the heading square to the push, on side_; in place while that is
-// far off the heading or the front is blocked.
-MissionOutput WaypointMission::bypass_step(const Pose2& pose, bool blocked) const {
   MissionOutput out;
-  const Vec2 r = vff_.repulsion();
-  if (r.squaredNorm() < 1e-12) return out;  // the push is gone: the next tick leaves
-  const Vec2 along = side_ > 0 ? Vec2(r.y(), -r.x()) : Vec2(-r.y(), r.x());
-  const double err = wrap_angle(std::atan2(along.y(), along.x()) - pose.yaw);
-  const VffConfig& v = cfg_.vff;
-  Twist& t = out.motion.twist;
-  t.wz = clampd(v.turn_gain * err, -v.max_yaw_rate_radps, v.max_yaw_rate_radps);
-  if (blocked) {
-    // Turning away from the obstacle's side clears the front.
-    if (std::fabs(t.wz) < cfg_.turn_in_place_min_radps) t.wz = side_ * v.max_yaw_rate_radps;
-    return out;
+  bool blocked_straight = false;
+  out.motion.twist = guarded(want, blocked_straight);
+  // Held straight on short of something VFF does not steer off (its local minimum): round it,
+  // unless the target is at it.
+  if (blocked_straight && !bypass_ && cfg_.bypass && !skipped) {
+    const BodyGuard::Nearest n = guard_.nearest();
+    if (n.found && (to_world(pose, n.p) - target).norm() > keep_m()) {
+      start_bypass(pose, to_target);
+      out.motion.twist = guarded(bypass_twist(follow_edge(pose)), blocked_straight);
+    }
   }
-  if (std::fabs(err) <= v.turn_in_place_rad) t.vx = cfg_.bypass_speed_mps * std::cos(err);
   return out;
 }
 

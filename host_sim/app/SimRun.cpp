@@ -154,6 +154,9 @@ bool SimRun::step() {
   } else if (!faulted && ms.status == fw::MissionStatus::Done &&
              scenario_.mission.type == "coverage") {
     result_ = "coverage_done";
+  } else if (!faulted && ms.status == fw::MissionStatus::Done &&
+             scenario_.mission.type == "waypoints") {
+    result_ = "course_done";  // every lap driven to its last target
   } else if (faulted) {
     // Keep simulating for a second so the quick stop shows in the trajectory.
     if (fault_at_s_ < 0) fault_at_s_ = s.t_s;
@@ -282,6 +285,10 @@ RunSummary SimRun::summary(double wall_time_s) {
     r.tasks.push_back({t.name, long(t.runs), long(t.overruns), t.p50_us, t.p99_us, t.max_us});
   }
   score_goto(scenario_, firmware, topo_.world.pose(), r);
+  // The waypoint course's goal: the whole course driven (expect goal_reached checks it).
+  if (scenario_.mission.type == "waypoints") {
+    r.goal_reached = firmware.waypoints.current() == fw::WaypointMission::State::Done;
+  }
   check_cells(scenario_, firmware, r);
   if (x.goal_reached && (!r.goal_reached || *r.goal_reached != *x.goal_reached)) {
     miss("goal_reached: expected %.0f, got %.0f", *x.goal_reached ? 1.0 : 0.0,

@@ -1,3 +1,4 @@
-# Issue 11: the waypoint course followed with VFF.
-carril_add_test(waypoint_mission_test SOURCES WaypointMissionTest.cpp
+# Issue 11: the waypoint course followed with VFF; the body guard (corners clear when turning).
+carril_add_test(waypoint_mission_test
+  SOURCES WaypointMissionTest.cpp WaypointCourseTest.cpp BodyGuardTest.cpp
   LIBS carril_firmware carril_test_alloc_counter)

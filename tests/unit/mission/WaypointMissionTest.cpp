@@ -8,72 +8,21 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "firmware/mapping/CostValues.hpp"
 #include "tests/support/CountingAllocator.hpp"
+#include "tests/unit/mission/WaypointHarness.hpp"
 
 namespace carril::fw {
 namespace {
 
-constexpr double kPostRadius = 0.15;  // [m]
-
-// An 8 x 8 m window from (-2, -2): the master and the lidar layer, written by the test.
-class CourseCostmap final : public CostmapView {
- public:
-  CourseCostmap() {
-    master_.init(160, 160, 0.05, cost::kFree);
-    obstacles_.init(160, 160, 0.05, cost::kUnknown);
-    master_.move_origin(-40, -40);
-    obstacles_.move_origin(-40, -40);
-  }
-  const RollingGrid<std::uint8_t>& master() const override { return master_; }
-  const RollingGrid<std::uint8_t>& obstacles() const override { return obstacles_; }
-  std::uint32_t updates() const override { return updates_; }
-  void touch() { ++updates_; }
-
-  // A round post of kPostRadius at (x, y) [m]: lethal inside, inscribed (253) within 0.25 m of
-  // its edge, then 252 exp(-10 (d - 0.25)) out to 0.55 m. seen_by_lidar: lethal in the lidar
-  // layer too.
-  void post(double px, double py, bool seen_by_lidar = true) {
-    posts_.push_back(Vec2(px, py));
-    for (int cy = master_.origin_cy(); cy < master_.origin_cy() + master_.ny(); ++cy) {
-      for (int cx = master_.origin_cx(); cx < master_.origin_cx() + master_.nx(); ++cx) {
-        const double d = std::fmax(
-            0.0, std::hypot(master_.center_of(cx) - px, master_.center_of(cy) - py) - kPostRadius);
-        std::uint8_t& c = master_.at(cx, cy);
-        if (d == 0.0) {
-          c = cost::kLethal;
-          if (seen_by_lidar) obstacles_.at(cx, cy) = cost::kLethal;
-        } else if (d <= 0.25 && c != cost::kLethal) {
-          c = cost::kInscribed;
-        } else if (d <= 0.55 && cost::passable(c)) {
-          const auto v = static_cast<std::uint8_t>(252.0 * std::exp(-10.0 * (d - 0.25)));
-          if (v > c) c = v;
-        }
-      }
-    }
-    ++updates_;
-  }
-  // Distance from (x, y) to the nearest post's edge [m].
-  double clearance(double x, double y) const {
-    double best = 1e9;
-    for (const Vec2& p : posts_) best = std::fmin(best, std::hypot(x - p.x(), y - p.y()));
-    return best - kPostRadius;
-  }
-
- private:
-  RollingGrid<std::uint8_t> master_, obstacles_;
-  std::vector<Vec2> posts_;
-  std::uint32_t updates_ = 0;
-};
+using test_waypoints::Bench;
+using test_waypoints::counter;
 
 // The course: a 4 x 4 m square of targets from the start (0, 0), a post just beside each side's
 // middle and more scattered round and inside it.
-struct Course {
+struct Course : Bench {
   Course() {
     for (const Vec2& t : {Vec2(4.0, 0.0), Vec2(4.0, 4.0), Vec2(0.0, 4.0), Vec2(0.0, 0.0)}) {
       cfg.targets.push_back(t);
@@ -84,70 +33,7 @@ struct Course {
       costmap.post(p.x(), p.y());
     }
   }
-
-  WaypointConfig cfg;
-  Topic<OdometryMsg> odom;
-  CourseCostmap costmap;
-  std::unique_ptr<WaypointMission> mission;
-  Pose2 pose{0.0, 0.0, 0.0};
-  int tick = 0;
-  bool drives_ready = true;
-  bool on_lethal = false;           // the centre on a lethal cell
-  double min_clearance = 1e9;       // centre to the nearest post's edge [m]
-  std::vector<std::size_t> order;   // the target index at every reach
-  std::vector<double> reach_miss;   // distance to the reached target then [m]
-  std::vector<std::string> phases;  // every phase change reported
-  bool allocations_counted = false;
-
-  void start() {
-    mission = std::make_unique<WaypointMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap);
-    mission->enter(MissionContext{});
-  }
-  double t_s() const { return tick * 0.01; }
-  // Runs until done or failed or `seconds` pass; the robot follows the twist (unicycle).
-  MissionOutput run(double seconds) {
-    MissionOutput out;
-    for (int i = 0; i < int(seconds * 100); ++i, ++tick) {
-      odom.publish(OdometryMsg{pose, {}}, tick);
-      MissionContext ctx;
-      ctx.t_s = t_s();
-      ctx.dt_s = 0.01;
-      ctx.drives_ready = drives_ready;
-      const std::uint32_t before = mission->targets_reached();
-      const std::size_t target = mission->target_index();
-      if (allocations_counted) test::alloc::begin_window();
-      out = mission->update(ctx);
-      if (allocations_counted) test::alloc::end_window();
-      if (const char* p = mission->take_phase_change()) phases.push_back(p);
-      if (mission->targets_reached() != before) {
-        order.push_back(target);
-        reach_miss.push_back((cfg.targets[target] - Vec2(pose.x, pose.y)).norm());
-      }
-      const MissionStatus s = mission->state().status;
-      if (s == MissionStatus::Done || s == MissionStatus::Failed) break;
-      const Twist& t = out.motion.twist;
-      pose.x += std::cos(pose.yaw) * t.vx * 0.01;
-      pose.y += std::sin(pose.yaw) * t.vx * 0.01;
-      pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
-      int cx = 0, cy = 0;
-      if (costmap.master().world_to_cell(pose.x, pose.y, cx, cy) &&
-          costmap.master().at(cx, cy) == cost::kLethal) {
-        on_lethal = true;
-      }
-      min_clearance = std::fmin(min_clearance, costmap.clearance(pose.x, pose.y));
-    }
-    return out;
-  }
 };
-
-std::uint32_t counter(const WaypointMission& m, const char* name) {
-  MissionCounters c;
-  m.counters(c);
-  for (const MissionCounter& k : c)
-    if (std::strcmp(k.name, name) == 0) return k.value;
-  ADD_FAILURE() << "no counter " << name;
-  return 0;
-}
 
 TEST(WaypointMissionTest, TwoLapsOfTheCourseInOrderWithoutTouching) {
   Course c;

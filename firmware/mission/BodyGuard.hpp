@@ -1,0 +1,88 @@
+#pragma once
+// The lethal costmap cells round a rectangular body, gathered once a tick in the body frame, and
+// the checks that keep the body off them: how far it can move along an arc, whether it can turn
+// in place, which cell is nearest. A square body turning in place sweeps its circumscribed
+// circle, not its inscribed one: its corners are checked, not only its front edge.
+//
+// Every check pads the body by pad_m plus half a cell (a cell is a square, not its centre).
+// A cell already inside that padding at the current pose only stops the bare body (plus half a
+// cell): moving along a wall passed close is allowed, moving into it is not.
+#include <cstddef>
+#include <cstdint>
+
+#include "firmware/core/Geometry.hpp"
+#include "firmware/core/StaticVector.hpp"
+#include "firmware/mapping/RollingGrid.hpp"
+
+namespace carril::fw {
+
+class BodyGuard {
+ public:
+  // Cells gathered per tick; a window holding more (or a non-finite pose) is "crowded": every
+  // motion check reports blocked.
+  static constexpr std::size_t kMaxCells = 2048;
+
+  // The body's half length and half width [m], the clearance kept round it [m], and the radius
+  // round the centre within which cells are gathered [m].
+  BodyGuard(double half_length_m, double half_width_m, double pad_m, double radius_m);
+
+  // The lethal cells of grid within the radius of pose, in the body frame. Never allocates.
+  void gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid);
+
+  struct Nearest {
+    bool found = false;
+    double d_m = 0.0;  // centre to the cell's centre [m]
+    Vec2 p{0.0, 0.0};  // the cell, body frame [m]
+  };
+  // The gathered cell nearest the centre.
+  Nearest nearest() const;
+  // The cell nearest the centre among those within within_m of p (body frame): an obstacle's
+  // edge followed from tick to tick, never the far side of a gap.
+  Nearest nearest_around(const Vec2& p, double within_m) const;
+
+  // From p (body frame) to the nearest gathered cell [m]; 1e300 when none was gathered.
+  double distance_to(const Vec2& p) const;
+  struct Corridor {
+    double first_m = 0.0;      // along the line to the first cell, length_m if none [m]
+    double mean_side_m = 0.0;  // mean offset left of the line of the cells within depth_m past
+                               // the first (which side of the line the obstacle lies on) [m]
+    std::size_t cells = 0;     // those cells
+    Vec2 first_p{0.0, 0.0};    // the first cell, body frame [m]
+  };
+  // Along the unit direction dir (body frame): the cells whose centres lie ahead of the centre
+  // within half_width_m of the line, up to length_m.
+  Corridor corridor(const Vec2& dir, double half_width_m, double length_m,
+                    double depth_m = 0.0) const;
+  // How far [m] the padded body can move along an arc of curvature k [1/m] (forward, or backward
+  // with reverse) before it meets a cell, up to max_m (returned when nothing is met).
+  double free_length(double k, bool reverse, double max_m) const;
+  // The padded body can turn in place through angle_rad (its sign the direction) [rad], here or
+  // moved shift_m straight ahead (behind when negative) [m].
+  bool rotation_clear(double angle_rad, double shift_m = 0.0) const;
+
+  std::size_t cells() const { return cells_.size(); }
+  bool crowded() const { return crowded_; }
+  double half_length() const { return hl_; }
+  double half_width() const { return hw_; }
+  double pad() const { return pad_; }
+  double margin() const { return pad_ + half_cell_; }  // the padding every check adds [m]
+  // The padded body's circumscribed radius: nothing nearer the centre, it turns freely [m].
+  double swept_radius() const;
+
+ private:
+  struct Cell {
+    float x, y;  // body frame [m]
+  };
+  // The cell lies in the body at (x, y, yaw) (body frame of the gather pose), grown by grow [m].
+  bool inside(const Cell& c, double x, double y, double yaw, double grow) const;
+  // Some cell meets the body at (x, y, yaw): the padding for cells clear of the body at (x0, 0,
+  // 0), half a cell for cells already inside it there.
+  bool hits(double x, double y, double yaw, double x0 = 0.0) const;
+
+  double hl_, hw_, pad_, radius_;
+  double half_cell_ = 0.0;  // of the grid last gathered [m]
+  bool crowded_ = false;
+  StaticVector<Cell, kMaxCells> cells_;
+};
+
+}  // namespace carril::fw
