@@ -41,14 +41,14 @@ struct MissionSpec {
   // waypoints (a course followed with VFF): the targets (yaw unused), laps, how close counts.
   std::vector<GoalSpec> targets;
   int laps = 1;
-  double reach_radius_m = 0.25;   // [m]
+  double reach_radius_m = 0.25;  // [m]
   // coverage (cleaning): systematic (boustrophedon on the map) or vacuum (the reactive baseline),
   // the tool's width, the area (a polygon in the map frame; empty: the map's free space), and a
   // time limit (the vacuum's run time).
   std::string coverage_mode = "systematic";
   double tool_width_m = 0.0;  // 0: the robot's width [m]
   std::vector<GoalSpec> area;
-  double max_time_s = 1800.0;  // [s]
+  double max_time_s = 1800.0;     // [s]
   std::vector<Setting> settings;  // a mission file's behavior:, strategy_gains:, tape_preview_m
   std::string source_path;        // the mission file ("" for a scenario's section)
 };

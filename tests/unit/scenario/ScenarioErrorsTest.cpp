@@ -142,8 +142,9 @@ TEST(ScenarioErrors, UnknownStrategy) {
 }
 
 TEST(ScenarioErrors, UnsupportedMissionType) {
-  EXPECT_TRUE(fails_with(edit(kFullYaml, "type: follow_line", "type: mowing"),
-                         {"mission.type", "expected one of follow_line, goto, waypoints, coverage"}));
+  EXPECT_TRUE(
+      fails_with(edit(kFullYaml, "type: follow_line", "type: mowing"),
+                 {"mission.type", "expected one of follow_line, goto, waypoints, coverage"}));
   // A mission type's own keys: follow_line's strategy in a coverage mission is named.
   EXPECT_TRUE(fails_with(edit(kFullYaml, "type: follow_line", "type: coverage"),
                          {"mission.strategy", "unknown key"}));
