@@ -76,7 +76,10 @@ double BodyGuard::distance_to(const Vec2& p) const {
   double best = 1e300;
   for (const Cell& k : cells_) {
     const double dx = double(k.x) - p.x(), dy = double(k.y) - p.y();
-    best = std::fmin(best, dx * dx + dy * dy);
+    const double d2 = dx * dx + dy * dy;
+    // A comparison, not fmin: aarch64 GCC 12's vectoriser fails on an fmin reduction here
+    // (internal compiler error in vect_transform_reduction).
+    if (d2 < best) best = d2;
   }
   return best < 1e300 ? std::sqrt(best) : best;
 }
