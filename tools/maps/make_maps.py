@@ -186,13 +186,13 @@ class Plan:
                 raise ValueError(f"{self.name}: {label} at plan ({x}, {y}) is not clear")
         seen = bytearray(nx * ny)
         seen[sj * nx + si] = 1
-        todo = deque([(si, sj)])
-        while todo:
-            i, j = todo.popleft()
+        frontier = deque([(si, sj)])
+        while frontier:
+            i, j = frontier.popleft()
             for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)):
                 if 0 <= a < nx and 0 <= b < ny and not seen[b * nx + a] and not blocked[b * nx + a]:
                     seen[b * nx + a] = 1
-                    todo.append((a, b))
+                    frontier.append((a, b))
         for label, x, y in points:
             i, j = self.cell_of(x, y)
             if not seen[j * nx + i]:
