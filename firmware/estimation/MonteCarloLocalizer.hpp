@@ -100,6 +100,11 @@ class MonteCarloLocalizer {
   // while it is not localised, so the filter keeps working on what it sees).
   void force_next_update() { force_next_ = true; }
 
+  // How well a scan fits the map with the robot at map pose `pose`: the mean log p per beam
+  // [log(1/m)] over the beams an update would weigh (up to max_beams valid ones, evenly spaced).
+  // One pose, no particle touched: cheap enough for every scan. NaN without a valid beam.
+  double scan_fit(const hal::LaserScan& scan, const Pose2& pose, const Pose2& laser_mount) const;
+
   int particle_count() const { return n_; }
   const Particle* particles() const { return cur_; }
   // Normalised weight of particle i (after a completed update or set_*).
