@@ -57,6 +57,19 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
     mc.beam_correlation = 0.05;
     mc.alpha1 = mc.alpha2 = mc.alpha3 = mc.alpha4 = 0.05;
     if (!s.localisation.recovery) mc.alpha_fast = mc.alpha_slow = 0.0;
+    if (s.localisation.global || s.localisation.recovery) {
+      // Finding itself over the whole house (global, or spread again after a kidnap): the
+      // filter's defaults (sigma_hit 0.2 m, beams counted as 1 + 59 x 0.2). The sharper
+      // tracking model collapses a sparse spread onto the first room that fits one view (in the
+      // kidnap run, bedroom 1 for the kitchen, every time); this one keeps the rooms that fit
+      // alive until the robot's turn tells them apart (docs/performance.md, Issue 11: end to end).
+      mc.sigma_hit_m = 0.2;
+      mc.beam_correlation = 0.2;
+    }
+    // A robot that may have to find itself with nothing to go by (told nothing, or kidnapped)
+    // looks round while it is lost: a slow turn in place shows the 180 deg lidar the whole
+    // room. Told where it starts, it waits still, as before.
+    if (s.localisation.global || s.localisation.recovery) c.runner.lost_turn_radps = 0.3;
     c.localisation.initial_sigma_xy_m = s.localisation.initial_sigma_xy_m;
     c.localisation.initial_sigma_yaw_rad = s.localisation.initial_sigma_yaw_rad;
     return c;

@@ -380,8 +380,18 @@ ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
                 "max_goal_yaw_error_deg", "fault", "min_replans", "cells", "min_coverage",
-                "max_coverage_time_ratio"});
+                "max_coverage_time_ratio", "max_time_to_converge_s", "max_relocalise_s",
+                "max_localisation_rmse_m"});
   ExpectSpec e;
+  if (auto n = m.get("max_time_to_converge_s")) {
+    e.max_time_to_converge_s = n->number(Range::closed(0.0, 86400.0));
+  }
+  if (auto n = m.get("max_relocalise_s")) {
+    e.max_relocalise_s = n->number(Range::closed(0.0, 86400.0));
+  }
+  if (auto n = m.get("max_localisation_rmse_m")) {
+    e.max_localisation_rmse_m = n->number(Range::open_closed(0.0, 10.0));
+  }
   if (auto n = m.get("goal_reached")) e.goal_reached = n->boolean();
   if (auto n = m.get("max_goal_error_m")) {
     e.max_goal_error_m = n->number(Range::open_closed(0.0, 10.0));
@@ -457,7 +467,19 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
     if (!s.map) n->expected("a map: (localisation runs on a known map)", "no map");
   }
   if (auto n = root.get("odometry")) s.odometry = parse_odometry(*n);
-  if (auto n = root.get("expect")) s.expect = parse_expect(*n);
+  if (auto n = root.get("expect")) {
+    s.expect = parse_expect(*n);
+    // Localisation is scored only on a map, and a relocalisation only after a kidnap.
+    for (const char* k :
+         {"max_time_to_converge_s", "max_relocalise_s", "max_localisation_rmse_m"}) {
+      if (auto e = n->get(k); e && !s.map) {
+        e->expected("a map: (localisation is scored on a known map)", "no map");
+      }
+    }
+    if (auto e = n->get("max_relocalise_s"); e && s.localisation.kidnaps.empty()) {
+      e->expected("a kidnap in localisation.kidnap", "none");
+    }
+  }
 
   // follow_line needs tape of the mission's colour to follow.
   const bool has_line = std::any_of(s.lines.begin(), s.lines.end(), [&](const LineSpec& l) {
