@@ -44,6 +44,7 @@ Localisation::Localisation(const LocalisationConfig& cfg, const OccupancyGrid* m
   // The odometry frame starts where the robot does: at the initial pose in the map frame.
   map_from_odom_ = cfg_.initial_pose;
   mcl_ = std::make_unique<MonteCarloLocalizer>(cfg_.mcl, *map_);
+  mcl_->set_search(cfg_.search_while_unlocalised);  // not localised yet
   if (cfg_.global) {
     mcl_->set_global();
   } else {
@@ -68,6 +69,8 @@ void Localisation::take_estimate() {
 void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose) {
   const double fit = mcl_->scan_fit(scan, compose(map_from_odom_, odom_pose), cfg_.lidar_mount);
   if (std::isnan(fit) || seen_updates_ == 0) return;  // no beam, or no estimate yet
+  // Told where it starts, the first convergence needs no proof; spread over the map it does.
+  const bool proven = ever_localised_ || cfg_.global;
   if (fit_decay_ >= 1.0) {
     tel_.fit_ratio = 1.0;  // no average yet: nothing to compare with
   } else {
@@ -82,12 +85,12 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
   } else if (tel_.fit_ratio >= cfg_.regain_fit_ratio) {
     ++fitting_scans_;
     fitting_turn_rad_ += turn;
-    fits_ = !ever_localised_ || fitting_scans_ >= cfg_.regain_scans ||
-            fitting_turn_rad_ >= cfg_.regain_turn_rad;
+    fits_ =
+        !proven || fitting_scans_ >= cfg_.regain_scans || fitting_turn_rad_ >= cfg_.regain_turn_rad;
   } else {
     fitting_scans_ = 0;
     fitting_turn_rad_ = 0.0;
-    fits_ = !ever_localised_;
+    fits_ = !proven;
   }
   decide();
   if (was_localised && !localised_) {
@@ -116,6 +119,7 @@ void Localisation::decide() {
   }
   if (!localised_ && ok && ever_localised_) ++tel_.relocalisations;
   ever_localised_ = ever_localised_ || ok;
+  if (cfg_.search_while_unlocalised) mcl_->set_search(!ok);
   localised_ = ok;
 }
 

@@ -55,6 +55,12 @@ struct LocalisationConfig {
   // whole free space again (a kidnapped robot may be anywhere; injection alone finds it slowly,
   // and a tight cloud in the wrong room outvotes the few injected particles).
   bool spread_when_lost = true;
+  // While not localised the filter weighs with its search model (mcl.search_*), localised with
+  // the tracking one: searching a whole house, a sharp model collapses the spread onto the first
+  // room that fits one view; tracking wants it sharp (its accuracy).
+  bool search_while_unlocalised = false;
+  // Spread over the whole map at the start (global), the first localisation too waits for the
+  // scans to fit through regain_turn_rad (or regain_scans): one view often fits a wrong room.
   // While not localised the filter weighs a scan at least this often even if the robot has not
   // moved (held still it would never update), and no more often: the same view weighed at every
   // scan counts one piece of evidence many times and collapses the filter onto a wrong room [s].
