@@ -54,8 +54,6 @@ constexpr std::size_t kMaxWalls = 256;
 constexpr std::size_t kMaxWallPoints = 4096;  // all walls
 constexpr std::size_t kMaxTerrain = 256;
 constexpr std::size_t kMaxCellExpects = 256;
-// Cells of a `map:` the simulator builds walls from (1000 x 1000: 50 x 50 m at 5 cm).
-constexpr std::size_t kMaxMapCells = 1'000'000;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -418,7 +416,7 @@ void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
   const std::string file = n.string();
   if (file.empty()) n.expected("a map file (ROS map_server YAML)", "an empty string");
   s.map_path = (std::filesystem::path(scenario_path).parent_path() / file).string();
-  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, kMaxMapCells);
+  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, loader::kMaxMapCells);
   if (!m.ok()) n.fail("cannot load the map: " + m.error);
   s.map = std::make_shared<const loader::OccupancyMapData>(std::move(m.map));
 }
