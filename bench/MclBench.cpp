@@ -278,4 +278,29 @@ BENCHMARK(BM_MclStep)->Arg(100)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::
 
 }  // namespace
 
+// The kidnap reaction's costs (Localisation): scan_fit, a scan's fit at one pose, checked on
+// every scan; set_global, the spread over the free space a loss of the fit starts (5000
+// particles, the simulator's max_particles), once per loss.
+void BM_MclScanFit(benchmark::State& state) {
+  const World& w = the_world();
+  MonteCarloLocalizer mcl(update_config(500), w.map);
+  double sum = 0.0;
+  for (auto _ : state) {
+    sum += mcl.scan_fit(w.scan, kTruth, kMount);
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_MclScanFit)->Unit(benchmark::kMicrosecond);
+
+void BM_MclSetGlobal(benchmark::State& state) {
+  const World& w = the_world();
+  MclConfig c = update_config(int(state.range(0)));
+  MonteCarloLocalizer mcl(c, w.map);
+  for (auto _ : state) {
+    mcl.set_global();
+    benchmark::DoNotOptimize(mcl.estimate());
+  }
+}
+BENCHMARK(BM_MclSetGlobal)->Arg(5000)->Unit(benchmark::kMicrosecond);
+
 BENCHMARK_MAIN();

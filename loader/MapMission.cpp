@@ -22,6 +22,14 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
   // Random injection can trade a right estimate for a wrong one in a symmetric building: only
   // when asked (a robot that may be carried elsewhere).
   if (!start.recovery) l.mcl.alpha_fast = l.mcl.alpha_slow = 0.0;
+  if (start.global || start.recovery) {
+    // A robot that may have to find itself with nothing to go by (told nothing, or carried
+    // elsewhere): the filter searches the whole map with its wide model while lost, and the robot
+    // looks round meanwhile (a slow turn in place, only with room to turn, shows a 180 deg lidar
+    // the whole room). Told where it starts, it waits still.
+    l.search_while_unlocalised = true;
+    c.runner.lost_turn_radps = 0.3;
+  }
 }
 
 }  // namespace carril::loader

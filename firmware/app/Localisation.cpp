@@ -26,6 +26,12 @@ Status LocalisationConfig::validate() const {
       .range("particles_per_tick", double(particles_per_tick), 10.0, 1e6, "particles")
       .range("localised_sigma_xy_m", localised_sigma_xy_m, 0.01, 10.0, "m")
       .range("localised_sigma_yaw_rad", localised_sigma_yaw_rad, 0.01, kPi, "rad")
+      .range("lost_fit_ratio", lost_fit_ratio, 0.0, 1.0, "")
+      .range("regain_fit_ratio", regain_fit_ratio, lost_fit_ratio, 1.0, "")
+      .range("fit_average_alpha", fit_average_alpha, 1e-4, 1.0, "")
+      .range("regain_scans", double(regain_scans), 1.0, 10000.0, "scans")
+      .range("regain_turn_rad", regain_turn_rad, 0.0, 100.0, "rad")
+      .range("unlocalised_update_period_s", unlocalised_update_period_s, 0.0, 60.0, "s")
       .nested(mcl.validate())
       .result();
 }
@@ -38,6 +44,7 @@ Localisation::Localisation(const LocalisationConfig& cfg, const OccupancyGrid* m
   // The odometry frame starts where the robot does: at the initial pose in the map frame.
   map_from_odom_ = cfg_.initial_pose;
   mcl_ = std::make_unique<MonteCarloLocalizer>(cfg_.mcl, *map_);
+  mcl_->set_search(cfg_.search_while_unlocalised);  // not localised yet
   if (cfg_.global) {
     mcl_->set_global();
   } else {
@@ -53,10 +60,66 @@ void Localisation::take_estimate() {
   const double l1 = 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
   tel_.sigma_xy_m = std::sqrt(std::max(0.0, l1));
   tel_.sigma_yaw_rad = std::sqrt(std::max(0.0, c(2, 2)));
+  decide();
+}
+
+// A tight cloud in the wrong place stays tight until injected particles have widened it, many
+// updates after a kidnap: the scan's fit at the published pose tells it at the first scan, before
+// the costmap marks that scan and before the missions act on the wrong pose.
+void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose) {
+  const double fit = mcl_->scan_fit(scan, compose(map_from_odom_, odom_pose), cfg_.lidar_mount);
+  if (std::isnan(fit) || seen_updates_ == 0) return;  // no beam, or no estimate yet
+  // Told where it starts, the first convergence needs no proof; spread over the map it does.
+  const bool proven = ever_localised_ || cfg_.global;
+  if (fit_decay_ >= 1.0) {
+    tel_.fit_ratio = 1.0;  // no average yet: nothing to compare with
+  } else {
+    const double average = fit_average_ / (1.0 - fit_decay_);
+    tel_.fit_ratio = std::exp(std::min(fit - average, 0.0));
+  }
+  const double turn = std::abs(wrap_angle(odom_pose.yaw - last_fit_yaw_));
+  last_fit_yaw_ = odom_pose.yaw;
+  const bool was_localised = localised_;
+  if (localised_) {
+    fits_ = tel_.fit_ratio >= cfg_.lost_fit_ratio;
+  } else if (tel_.fit_ratio >= cfg_.regain_fit_ratio) {
+    ++fitting_scans_;
+    fitting_turn_rad_ += turn;
+    fits_ =
+        !proven || fitting_scans_ >= cfg_.regain_scans || fitting_turn_rad_ >= cfg_.regain_turn_rad;
+  } else {
+    fitting_scans_ = 0;
+    fitting_turn_rad_ = 0.0;
+    fits_ = !proven;
+  }
+  decide();
+  if (was_localised && !localised_) {
+    fitting_scans_ = 0;
+    fitting_turn_rad_ = 0.0;
+    if (cfg_.spread_when_lost && cfg_.mcl.alpha_slow > 0.0) {
+      mcl_->set_global();
+      ++tel_.spreads;
+    }
+  }
+  if (localised_) {
+    // Only scans taken while localised set what a fitting scan looks like here.
+    fit_average_ += cfg_.fit_average_alpha * (fit - fit_average_);
+    fit_decay_ *= 1.0 - cfg_.fit_average_alpha;
+  }
+}
+
+void Localisation::decide() {
   const double k = localised_ ? 2.0 : 1.0;  // hysteresis: lost only beyond twice the bounds
-  const bool ok = tel_.sigma_xy_m <= k * cfg_.localised_sigma_xy_m &&
-                  tel_.sigma_yaw_rad <= k * cfg_.localised_sigma_yaw_rad;
-  if (localised_ && !ok) ++tel_.lost;
+  const bool tight = seen_updates_ > 0 && tel_.sigma_xy_m <= k * cfg_.localised_sigma_xy_m &&
+                     tel_.sigma_yaw_rad <= k * cfg_.localised_sigma_yaw_rad;
+  const bool ok = tight && fits_;
+  if (localised_ && !ok) {
+    ++tel_.lost;
+    if (tight) ++tel_.lost_by_fit;
+  }
+  if (!localised_ && ok && ever_localised_) ++tel_.relocalisations;
+  ever_localised_ = ever_localised_ || ok;
+  if (cfg_.search_while_unlocalised) mcl_->set_search(!ok);
   localised_ = ok;
 }
 
@@ -64,11 +127,18 @@ void Localisation::run() {
   const OdometryMsg& o = odom_.get();
   if (mcl_ != nullptr) {
     const SensorFrame& f = frame_.get();
+    const bool fresh = f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_fit_seq_;
+    if (fresh) {
+      last_fit_seq_ = f.scan->seq;
+      check_fit(*f.scan, o.pose);
+    }
     if (!mcl_->busy() && f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_scan_seq_) {
       last_scan_seq_ = f.scan->seq;
-      // Held still while lost, the robot would never move enough to update: weigh every scan.
-      if (!localised_) mcl_->force_next_update();
-      (void)mcl_->begin_update(*f.scan, o.pose, cfg_.lidar_mount);
+      // Held still while lost, the robot would never move enough to update: weigh a scan now and
+      // then all the same.
+      const auto period_ns = std::int64_t(cfg_.unlocalised_update_period_s * 1e9);
+      if (!localised_ && f.now_ns - last_update_ns_ >= period_ns) mcl_->force_next_update();
+      if (mcl_->begin_update(*f.scan, o.pose, cfg_.lidar_mount)) last_update_ns_ = f.now_ns;
     } else if (mcl_->busy()) {
       (void)mcl_->step(cfg_.particles_per_tick);
     }
@@ -84,6 +154,7 @@ void Localisation::run() {
   m.pose = mcl_ != nullptr ? compose(map_from_odom_, o.pose) : o.pose;
   m.twist = o.twist;
   m.localised = mcl_ == nullptr || localised_;
+  m.relocalisations = tel_.relocalisations;
   out_.publish(frame_.get().now_ns);
   tel_.pose = m.pose;
   tel_.localised = m.localised;

@@ -5,6 +5,12 @@
 // budget per tick, and publishes every tick the odometry pose carried into the map frame by the
 // newest correction (map <- odom, as AMCL's transform): smooth between scans, corrected at each
 // completed update. The missions and the costmap read this pose.
+//
+// Localised means a tight spread and scans that fit the map at the published pose. A scan that
+// stops fitting (a kidnap) makes it lost at once, before the costmap marks that scan; with
+// recovery on the particles are then spread over the whole map again. Regained only after the
+// scans have fitted for a while (see regain_turn_rad), which counts as a relocalisation: the pose
+// may have jumped, and the costmap and the mission are told through OdometryMsg.
 #include <cstdint>
 
 #include <memory>
@@ -32,6 +38,33 @@ struct LocalisationConfig {
   // them): the missions drive only then [m], [rad].
   double localised_sigma_xy_m = 0.15;
   double localised_sigma_yaw_rad = 0.1;
+  // Lost too as soon as a scan stops fitting the map at the published pose (a kidnap, a wrong
+  // convergence): its per-beam likelihood there has fallen below lost_fit_ratio x its running
+  // average while localised. Localised again only with a scan back above regain_fit_ratio x that
+  // average (and the spread within bounds). Checked on every scan, before the costmap marks it.
+  double lost_fit_ratio = 0.2;
+  double regain_fit_ratio = 0.5;
+  double fit_average_alpha = 0.02;  // weight of a new scan in that average (while localised)
+  // Localised again only once the scans have fitted, in a row, while the robot turned
+  // regain_turn_rad (a 180 deg lidar has then seen all round), or for regain_scans scans if it
+  // cannot turn, and the spread is tight: in a house of similar rooms one view often fits a
+  // wrong room too, the next views rarely do [rad], [scans].
+  double regain_turn_rad = 3.14159265358979;
+  int regain_scans = 200;
+  // Lost by the fit with recovery on (mcl.alpha_slow > 0): the particles are spread over the
+  // whole free space again (a kidnapped robot may be anywhere; injection alone finds it slowly,
+  // and a tight cloud in the wrong room outvotes the few injected particles).
+  bool spread_when_lost = true;
+  // While not localised the filter weighs with its search model (mcl.search_*), localised with
+  // the tracking one: searching a whole house, a sharp model collapses the spread onto the first
+  // room that fits one view; tracking wants it sharp (its accuracy).
+  bool search_while_unlocalised = false;
+  // Spread over the whole map at the start (global), the first localisation too waits for the
+  // scans to fit through regain_turn_rad (or regain_scans): one view often fits a wrong room.
+  // While not localised the filter weighs a scan at least this often even if the robot has not
+  // moved (held still it would never update), and no more often: the same view weighed at every
+  // scan counts one piece of evidence many times and collapses the filter onto a wrong room [s].
+  double unlocalised_update_period_s = 0.5;
 
   Status validate() const;
 };
@@ -43,7 +76,13 @@ struct LocalisationTelemetry {
   double sigma_yaw_rad = 0.0;  // its yaw spread [rad]
   int particles = 0;           // particles in the filter
   bool localised = true;
-  std::uint32_t lost = 0;  // times it went from localised to not
+  std::uint32_t lost = 0;             // times it went from localised to not
+  std::uint32_t lost_by_fit = 0;      // of those, the times the scans stopped fitting
+  std::uint32_t relocalisations = 0;  // times it was localised again after being lost
+  std::uint32_t spreads = 0;          // times the particles were spread afresh on a loss
+  // The latest scan's per-beam likelihood at the published pose over its average (1 before
+  // the first localisation).
+  double fit_ratio = 1.0;
   MclTelemetry mcl;
 };
 
@@ -75,9 +114,19 @@ class Localisation {
   Topic<OdometryMsg>& out_;
   Pose2 map_from_odom_;
   std::unique_ptr<MonteCarloLocalizer> mcl_;
-  std::uint32_t last_scan_seq_ = 0;
+  std::uint32_t last_scan_seq_ = 0, last_fit_seq_ = 0;
   std::uint64_t seen_updates_ = 0;
   bool localised_ = false;
+  bool ever_localised_ = false;
+  bool fits_ = true;                 // the latest scans fit the map at the published pose
+  int fitting_scans_ = 0;            // scans in a row that fit well enough to regain
+  double fitting_turn_rad_ = 0.0;    // the odometry's turn over those scans [rad]
+  double last_fit_yaw_ = 0.0;        // odometry yaw at the latest scan checked [rad]
+  std::int64_t last_update_ns_ = 0;  // when the latest update began
+  double fit_average_ = 0.0;         // running mean log p per beam while localised [log(1/m)]
+  double fit_decay_ = 1.0;           // (1 - alpha)^scans averaged: the average's bias correction
+  void check_fit(const hal::LaserScan& scan, const Pose2& odom_pose);
+  void decide();
   void take_estimate();
   mutable LocalisationTelemetry tel_;
 };

@@ -115,8 +115,19 @@ void Mapping::run() {
     // enter), the master is rebuilt at master_rate_hz.
     costmap_.recenter(pose.x, pose.y);
   }
+  const OdometryMsg& pm = odom_.get();
+  bool cleared = false;
+  if (pm.relocalisations != seen_relocalisations_) {
+    seen_relocalisations_ = pm.relocalisations;
+    costmap_.obstacles().clear();
+    ++tel_.obstacle_clears;
+    cleared = true;
+  }
   bool scanned = false;
-  if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
+  if (f.scan != nullptr && f.scan->seq != last_scan_seq_ && !pm.localised) {
+    last_scan_seq_ = f.scan->seq;
+    ++tel_.scans_unlocalised;
+  } else if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
     last_scan_seq_ = f.scan->seq;
     const Vec2 s = to_world(pose, Vec2(cfg_.lidar_x_m, cfg_.lidar_y_m));
     costmap_.update_obstacles(*f.scan,
@@ -125,7 +136,8 @@ void Mapping::run() {
     scanned = true;
   }
   if (!cfg_.terrain) {
-    if (tick_ % master_divisor_ == 0) {
+    // A clearing reaches the master at once: a mission replanning on the jump reads it next.
+    if (cleared || tick_ % master_divisor_ == 0) {
       if (static_map_ != nullptr) {
         const RollingGrid<std::uint8_t>* layers[] = {&static_layer_.grid()};
         costmap_.update_master(layers, 1);

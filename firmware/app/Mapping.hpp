@@ -12,7 +12,9 @@
 //
 // On a known map (a static OccupancyGrid given), the costmap is in the map frame instead, read
 // with the localised pose: one window covering the whole map that never moves, the map's walls
-// as a static layer under the live obstacles (like Nav2's global costmap), no terrain.
+// as a static layer under the live obstacles (like Nav2's global costmap), no terrain. Scans are
+// marked only while the pose is localised, and when it is regained after being lost (it may have
+// jumped) the obstacle layer is forgotten: marks made from a wrong pose are phantom walls.
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"
@@ -56,12 +58,14 @@ struct MappingConfig {
 CostmapConfig costmap_for_map(const CostmapConfig& cfg, const MapInfo& map);
 
 struct MappingTelemetry {
-  std::uint32_t scans = 0;             // 2D scans integrated
-  std::uint32_t sweeps = 0;            // 3D sweeps fused
-  std::uint32_t sweeps_abandoned = 0;  // sweeps replaced by a newer one while being binned
-  std::uint32_t master_updates = 0;    // master rebuilds
-  std::uint32_t skipped_master = 0;    // rebuilds skipped (a layer on another window)
-  double z_m = 0.0;                    // the robot's height from the IMU pitch [m]
+  std::uint32_t scans = 0;              // 2D scans integrated
+  std::uint32_t sweeps = 0;             // 3D sweeps fused
+  std::uint32_t sweeps_abandoned = 0;   // sweeps replaced by a newer one while being binned
+  std::uint32_t master_updates = 0;     // master rebuilds
+  std::uint32_t skipped_master = 0;     // rebuilds skipped (a layer on another window)
+  std::uint32_t scans_unlocalised = 0;  // scans not marked: the pose was not localised
+  std::uint32_t obstacle_clears = 0;    // obstacle layer forgotten on a relocalisation
+  double z_m = 0.0;                     // the robot's height from the IMU pitch [m]
 };
 
 class Mapping final : public CostmapView {
@@ -105,6 +109,7 @@ class Mapping final : public CostmapView {
   bool started_ = false;
   std::uint32_t master_divisor_ = 1, tick_ = 0;
   std::uint32_t last_scan_seq_ = 0, last_cloud_seq_ = 0;
+  std::uint32_t seen_relocalisations_ = 0;
   // The robot's 3D pose over the last ticks: a sweep is fused with the pose of its stamp (a
   // driver delivers it after the sweep; fusing it with the current pose smears the map).
   struct StampedPose {

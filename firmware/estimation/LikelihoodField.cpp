@@ -68,16 +68,56 @@ LikelihoodField::LikelihoodField(const LikelihoodFieldConfig& cfg, const Occupan
   max_gy_ = float(ny_ + 1);
   const std::size_t n = std::size_t(nx_) * std::size_t(ny_);
 
+  d2_ = std::make_unique<std::uint16_t[]>(n);
+  const std::uint8_t* cells = map.data();
+  squared_distances(cells, true, d2_.get());
+  // With surface distances, an endpoint inside an obstacle is as unlikely as one as far outside
+  // it: its cell's distance is to the nearest cell that is not occupied.
+  std::unique_ptr<std::uint16_t[]> inside;
+  if (cfg.surface_distance) {
+    inside = std::make_unique<std::uint16_t[]>(n);
+    squared_distances(cells, false, inside.get());
+  }
+
+  // The table: log p per distinct squared distance (few), then per cell.
+  const float border = float(log_p_of_distance(max_dist_));
+  table_ = std::make_unique<float[]>(stride_ * (std::size_t(ny_) + 2));
+  std::fill(table_.get(), table_.get() + stride_ * (std::size_t(ny_) + 2), border);
+  const int max_cells = int(std::ceil(max_dist_ * inv_res_));
+  const int max_d2 = std::min(max_cells * max_cells, 65535);
+  auto by_d2 = std::make_unique<float[]>(std::size_t(max_d2) + 1);
+  // Between cell centres; to the surface half a cell less (a wall's face is its cells' edge).
+  const double shift = cfg.surface_distance ? 0.5 * res_ : 0.0;
+  for (int q = 0; q <= max_d2; ++q) {
+    const double dist = std::max(0.0, std::sqrt(double(q)) * res_ - shift);
+    by_d2[std::size_t(q)] = float(log_p_of_distance(dist));
+  }
+  for (int j = 0; j < ny_; ++j) {
+    float* out = &table_[(std::size_t(j) + 1) * stride_ + 1];
+    const std::size_t row = std::size_t(j) * std::size_t(nx_);
+    for (int i = 0; i < nx_; ++i) {
+      const std::size_t k = row + std::size_t(i);
+      const std::uint16_t q = inside && cells[k] == cost::kLethal ? inside[k] : d2_[k];
+      out[i] = q <= max_d2 ? by_d2[q] : border;
+    }
+  }
+}
+
+// Squared distances [cells^2] from every cell to the nearest occupied cell (to_occupied) or the
+// nearest cell that is not occupied, clamped to 16 bits: a column pass, then the exact row pass.
+void LikelihoodField::squared_distances(const std::uint8_t* cells, bool to_occupied,
+                                        std::uint16_t* out) const {
+  const std::size_t n = std::size_t(nx_) * std::size_t(ny_);
   // Pass 1, along each column (row by row, contiguous): vertical distance [cells] to the nearest
-  // occupied cell, capped where no occupied cell is in the column.
+  // target cell, capped where no target is in the column.
   const std::uint32_t cap = std::uint32_t(nx_ + ny_ + 2);
   auto g = std::make_unique<std::uint32_t[]>(n);
-  const std::uint8_t* cells = map.data();
   for (int j = 0; j < ny_; ++j) {
     for (int i = 0; i < nx_; ++i) {
       const std::size_t k = std::size_t(j) * std::size_t(nx_) + std::size_t(i);
       const std::uint32_t above = j > 0 ? g[k - std::size_t(nx_)] + 1 : cap;
-      g[k] = cells[k] == cost::kLethal ? 0 : std::min(above, cap);
+      const bool target = (cells[k] == cost::kLethal) == to_occupied;
+      g[k] = target ? 0 : std::min(above, cap);
     }
   }
   for (int j = ny_ - 2; j >= 0; --j) {
@@ -92,7 +132,6 @@ LikelihoodField::LikelihoodField(const LikelihoodFieldConfig& cfg, const Occupan
   auto d = std::make_unique<double[]>(std::size_t(m));
   auto v = std::make_unique<int[]>(std::size_t(m));
   auto z = std::make_unique<double[]>(std::size_t(m) + 1);
-  d2_ = std::make_unique<std::uint16_t[]>(n);
   for (int j = 0; j < ny_; ++j) {
     const std::size_t row = std::size_t(j) * std::size_t(nx_);
     for (int i = 0; i < nx_; ++i) {
@@ -101,24 +140,8 @@ LikelihoodField::LikelihoodField(const LikelihoodFieldConfig& cfg, const Occupan
     }
     distance_1d(f.get(), nx_, d.get(), v.get(), z.get());
     for (int i = 0; i < nx_; ++i) {
-      d2_[row + std::size_t(i)] = std::uint16_t(std::min(d[std::size_t(i)], 65535.0));
+      out[row + std::size_t(i)] = std::uint16_t(std::min(d[std::size_t(i)], 65535.0));
     }
-  }
-
-  // The table: log p per distinct squared distance (few), then per cell.
-  const float border = float(log_p_of_distance(max_dist_));
-  table_ = std::make_unique<float[]>(stride_ * (std::size_t(ny_) + 2));
-  std::fill(table_.get(), table_.get() + stride_ * (std::size_t(ny_) + 2), border);
-  const int max_cells = int(std::ceil(max_dist_ * inv_res_));
-  const int max_d2 = std::min(max_cells * max_cells, 65535);
-  auto by_d2 = std::make_unique<float[]>(std::size_t(max_d2) + 1);
-  for (int q = 0; q <= max_d2; ++q) {
-    by_d2[std::size_t(q)] = float(log_p_of_distance(std::sqrt(double(q)) * res_));
-  }
-  for (int j = 0; j < ny_; ++j) {
-    float* out = &table_[(std::size_t(j) + 1) * stride_ + 1];
-    const std::uint16_t* in = &d2_[std::size_t(j) * std::size_t(nx_)];
-    for (int i = 0; i < nx_; ++i) out[i] = in[i] <= max_d2 ? by_d2[in[i]] : border;
   }
 }
 

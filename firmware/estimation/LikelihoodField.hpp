@@ -27,6 +27,11 @@ struct LikelihoodFieldConfig {
   double sigma_hit_m = 0.2;  // spread of the hit term [m]
   double z_max_m = 12.0;     // the range the random term is uniform over [m]
   double max_dist_m = 2.0;   // distances are clamped here (and off the map) [m]
+  // Distances to obstacles' surfaces (half a cell off the cell centres), and for an endpoint in
+  // an occupied cell its depth inside: for a drawn map whose walls fill their cells, a face at
+  // the cells' edge. Off (AMCL's): to occupied cells' centres, 0 anywhere inside a thick wall,
+  // which lets the estimate slide by half the wall's thickness towards the walls in view.
+  bool surface_distance = false;
 
   Status validate() const;
 };
@@ -83,6 +88,7 @@ class LikelihoodField {
   // Distance [m] from the centre of cell (i, j) to the nearest occupied cell centre, clamped at
   // max_dist (max_dist off the map).
   double distance(int i, int j) const;
+  // (The distance functions are to occupied cells' centres whatever surface_distance says.)
   // Distance [m] for the cell a world point falls in.
   double distance_at(double x, double y) const;
   // log p(d) for a distance d [m] (the formula the table holds).
@@ -92,6 +98,8 @@ class LikelihoodField {
   double log_p_min() const { return log_p_of_distance(max_dist_); }
 
  private:
+  void squared_distances(const std::uint8_t* cells, bool to_occupied, std::uint16_t* out) const;
+
   LikelihoodFieldConfig cfg_;
   int nx_ = 0, ny_ = 0;
   std::size_t stride_ = 0;  // nx + 2

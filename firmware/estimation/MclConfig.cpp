@@ -11,6 +11,7 @@ LikelihoodFieldConfig MclConfig::field() const {
   f.sigma_hit_m = sigma_hit_m;
   f.z_max_m = laser_max_range_m;
   f.max_dist_m = likelihood_max_dist_m;
+  f.surface_distance = surface_distance;
   return f;
 }
 
@@ -25,6 +26,8 @@ Status MclConfig::validate() const {
       .nested(field().validate())
       .range("max_beams", max_beams, 1, hal::kMaxScanBeams, "beams")
       .range("beam_correlation", beam_correlation, 0.0, 1.0, "")
+      .range("search_sigma_hit_m", search_sigma_hit_m, 0.0, 10.0, "m")
+      .range("search_beam_correlation", search_beam_correlation, 0.0, 1.0, "")
       .range("kld_err", kld_err, 1e-4, 1.0, "")
       .range("kld_z", kld_z, 0.0, 10.0, "")
       .range("bin_xy_m", bin_xy_m, 0.01, 10.0, "m")
@@ -39,6 +42,11 @@ Status MclConfig::validate() const {
             "must be above alpha_slow (the short-term average must move faster)");
   c.fail_if(alpha_slow == 0.0 && alpha_fast > 0.0, "alpha_slow",
             "is 0 while alpha_fast is not: set both (injection on) or both 0 (off)");
+  if (search_sigma_hit_m > 0.0) {
+    LikelihoodFieldConfig f = field();
+    f.sigma_hit_m = search_sigma_hit_m;
+    c.nested(f.validate());
+  }
   return c.result();
 }
 

@@ -24,10 +24,16 @@ struct MclConfig {
   int max_beams = 60;                  // beams weighed per scan, evenly spaced among valid ones
   double laser_max_range_m = 12.0;     // beams at or beyond are skipped; z_max of z_rand [m]
   double likelihood_max_dist_m = 2.0;  // distance to obstacles is clamped here [m]
+  bool surface_distance = false;       // LikelihoodFieldConfig::surface_distance
   // The joint log-likelihood of a scan is the sum over its n beams times
   // 1 / (1 + (n - 1) beam_correlation): beams whose errors are correlated (the same wall, the
   // same map error) count as fewer independent ones. 0 = independent beams (plain sum).
   double beam_correlation = 0.2;
+  // A second sensor model for searching the whole map (set_search: global localisation, a lost
+  // robot): its hit spread [m] (0: none, the search uses sigma_hit_m) and beam correlation. A
+  // sharp tracking model collapses a sparse spread onto the first room that fits one view.
+  double search_sigma_hit_m = 0.0;
+  double search_beam_correlation = 0.2;
   // KLD-sampling (KldSampling.hpp).
   double kld_err = 0.01;                  // bound on the KL divergence
   double kld_z = 0.99;                    // standard normal quantile z_(1 - delta), as AMCL's

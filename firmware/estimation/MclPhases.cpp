@@ -10,6 +10,7 @@ namespace carril::fw {
 
 void MonteCarloLocalizer::weigh(long& units) {
   const long cost = n_beams_ + kWeighExtraUnits;
+  const LikelihoodField& field = *weigh_field_;
   const double inv_res = 1.0 / field_.resolution();
   // Padded grid coordinates of a map point: x * inv_res + gx0 (LikelihoodField::log_p_padded).
   const double gx0 = 1.0 - field_.origin_x() * inv_res, gy0 = 1.0 - field_.origin_y() * inv_res;
@@ -25,7 +26,7 @@ void MonteCarloLocalizer::weigh(long& units) {
     fast_sincos(p.yaw, sd, cd);
     const float c = float(cd), s = float(sd);
     const float gx = float(p.x * inv_res + gx0), gy = float(p.y * inv_res + gy0);
-    const float ll = field_.sum_log_p(gx, gy, c, s, bx, by, nb);
+    const float ll = field.sum_log_p(gx, gy, c, s, bx, by, nb);
     cos_[i] = c;
     sin_[i] = s;
     const double lw = lw_[i] + double(temper_) * double(ll);

@@ -30,6 +30,11 @@ MonteCarloLocalizer::MonteCarloLocalizer(const MclConfig& cfg, const OccupancyGr
     return;
   }
   field_ = LikelihoodField(cfg.field(), map);
+  if (cfg.search_sigma_hit_m > 0.0) {
+    LikelihoodFieldConfig f = cfg.field();
+    f.sigma_hit_m = cfg.search_sigma_hit_m;
+    search_field_ = LikelihoodField(f, map);
+  }
   inv_bin_xy_ = 1.0 / cfg.bin_xy_m;
   inv_bin_yaw_ = 1.0 / cfg.bin_yaw_rad;
   free_ = std::make_unique<std::uint32_t[]>(n_free_);
@@ -151,7 +156,9 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
     beam_x_[std::size_t(k)] = float((laser_mount.x + mc * lx - ms * ly) * inv_res);
     beam_y_[std::size_t(k)] = float((laser_mount.y + ms * lx + mc * ly) * inv_res);
   }
-  temper_ = float(1.0 / (1.0 + double(n_beams_ - 1) * cfg_.beam_correlation));
+  const double rho = search_ ? cfg_.search_beam_correlation : cfg_.beam_correlation;
+  temper_ = float(1.0 / (1.0 + double(n_beams_ - 1) * rho));
+  weigh_field_ = search_ && search_field_.ok() ? &search_field_ : &field_;
   force_next_ = false;
   moved_ = have_odom_;
   if (moved_) delta_ = motion_.delta(odom_, odom_pose);
@@ -162,6 +169,48 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
   cursor_ = 0;
   phase_ = Phase::Weigh;
   return true;
+}
+
+double MonteCarloLocalizer::scan_fit(const hal::LaserScan& scan, const Pose2& pose,
+                                     const Pose2& laser_mount) const {
+  if (!status_) return std::nan("");
+  // The same valid beams as begin_update's, the same even spacing, without its buffers (an
+  // update may be using them).
+  const float rmin = scan.range_min_m;
+  const float rmax = std::fmin(scan.range_max_m, float(cfg_.laser_max_range_m));
+  const int count = std::min(int(scan.count), hal::kMaxScanBeams);
+  const auto valid = [&](int i) {
+    const float r = scan.ranges_m[std::size_t(i)];
+    return std::isfinite(r) && std::isgreaterequal(r, rmin) && std::isless(r, rmax);
+  };
+  long nv = 0;
+  for (int i = 0; i < count; ++i) nv += valid(i) ? 1 : 0;
+  if (nv == 0) return std::nan("");
+  const long nb = std::min(nv, long(cfg_.max_beams));
+  const Vec2 sensor = to_world(pose, Vec2(laser_mount.x, laser_mount.y));
+  const double yaw0 = pose.yaw + laser_mount.yaw;
+  double sum = 0.0;
+  long rank = 0, k = 0;
+  for (int i = 0; i < count && k < nb; ++i) {
+    if (!valid(i)) continue;
+    // The k-th beam weighed is the valid one of rank (2k + 1) nv / (2 nb).
+    if (rank++ != (2 * k + 1) * nv / (2 * nb)) continue;
+    ++k;
+    const double a =
+        yaw0 + double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
+    const double r = double(scan.ranges_m[std::size_t(i)]);
+    sum += double(field_.log_p(sensor.x() + r * std::cos(a), sensor.y() + r * std::sin(a)));
+  }
+  return sum / double(k);
+}
+
+void MonteCarloLocalizer::set_search(bool on) {
+  if (on == search_) return;
+  search_ = on;
+  tel_.w_slow = tel_.w_fast = 0.0;
+  ws_raw_ = wf_raw_ = 0.0;
+  decay_slow_ = decay_fast_ = 1.0;
+  tel_.inject_probability = 0.0;
 }
 
 bool MonteCarloLocalizer::update(const hal::LaserScan& scan, const Pose2& odom_pose,

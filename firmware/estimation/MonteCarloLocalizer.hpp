@@ -99,6 +99,15 @@ class MonteCarloLocalizer {
   // The next begin_update weighs its scan even if the robot has not moved (a robot held still
   // while it is not localised, so the filter keeps working on what it sees).
   void force_next_update() { force_next_ = true; }
+  // Updates begun from now on use the search model (MclConfig::search_*) or the tracking one.
+  // The likelihood averages of augmented MCL restart on a change (they are of one model).
+  void set_search(bool on);
+  bool searching() const { return search_; }
+
+  // How well a scan fits the map with the robot at map pose `pose`: the mean log p per beam
+  // [log(1/m)] over the beams an update would weigh (up to max_beams valid ones, evenly spaced).
+  // One pose, no particle touched: cheap enough for every scan. NaN without a valid beam.
+  double scan_fit(const hal::LaserScan& scan, const Pose2& pose, const Pose2& laser_mount) const;
 
   int particle_count() const { return n_; }
   const Particle* particles() const { return cur_; }
@@ -151,7 +160,10 @@ class MonteCarloLocalizer {
 
   MclConfig cfg_;
   Status status_;
-  LikelihoodField field_;
+  LikelihoodField field_;         // the tracking model (scan_fit's too)
+  LikelihoodField search_field_;  // the search model's, when its sigma_hit differs
+  bool search_ = false;
+  const LikelihoodField* weigh_field_ = &field_;  // the model of the update under way
   OdometryMotionModel motion_;
   MclRng rng_;
   BinSet bins_;

@@ -16,6 +16,9 @@ struct OdometryMsg {
   // The pose can be trusted in its frame (always for odometry; on a map, once localisation has
   // converged and while it stays so).
   bool localised = true;
+  // Times the localisation was regained after being lost: the pose may have jumped, so what was
+  // built from the old one (costmap marks, a plan) is suspect [count].
+  std::uint32_t relocalisations = 0;
 };
 
 struct WheelOdometryTelemetry {

@@ -152,6 +152,25 @@ void GotoMission::counters(MissionCounters& out) const {
   out.push_back({"goals_reached", goals_reached_});
 }
 
+void GotoMission::relocalised() {
+  switch (state_) {
+    case State::Follow:
+    case State::Backup:
+    case State::Approach:
+    case State::Align:
+      ++replans_;
+      stops_in_a_row_ = 0;  // stops seen from the wrong pose say nothing about this one
+      waypoints_.clear();
+      go(State::Plan, "replan");
+      break;
+    case State::Wait:
+    case State::Plan:
+    case State::Done:
+    case State::Failed:
+      break;
+  }
+}
+
 MissionOutput GotoMission::fail(Fault f) {
   fault_ = f;
   go(State::Failed, f == Fault::NoPath ? "no_path" : "goal_invalid");

@@ -15,6 +15,7 @@
 //   FOLLOW --a lethal cell just ahead, the path straight on--> BACKUP --backed off--> PLAN
 //   (the path turning: FOLLOW turns in place until the front is clear)
 //   PLAN --no path / goal invalid--> FAILED (fault)
+//   FOLLOW, BACKUP, APPROACH, ALIGN --the pose jumped (relocalised)--> PLAN (a replan)
 //   BACKUP --more than max_recoveries in a row--> FAILED (no_path)
 //
 // BACKUP is the recovery of a robot that has come too close: replanning from where it stands
@@ -101,6 +102,9 @@ class GotoMission final : public Mission {
   MissionState state() const override;
   const char* take_phase_change() override;
   void counters(MissionCounters& out) const override;
+  // The pose jumped: a path from the old pose is void. Driving (FOLLOW, BACKUP, APPROACH, ALIGN)
+  // plans again to the same goal; a plan under way goes on (its wavefront grows from the goal).
+  void relocalised() override;
 
   enum class State : std::uint8_t { Wait, Plan, Follow, Backup, Approach, Align, Done, Failed };
   State current() const { return state_; }

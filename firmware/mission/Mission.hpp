@@ -88,6 +88,9 @@ class Mission {
   // The phase entered since the last call (static string), or nullptr.
   virtual const char* take_phase_change() = 0;
   virtual void counters(MissionCounters& out) const = 0;
+  // The pose jumped (the localisation was regained after being lost): whatever the mission
+  // planned from the old pose is void. Called before the next update.
+  virtual void relocalised() {}
 };
 
 }  // namespace carril::fw

@@ -1,11 +1,22 @@
 #include "firmware/mission/MissionRunner.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace carril::fw {
 
 Status ObstacleStopConfig::validate() const {
   return Checks("runner.obstacle")
       .range("stop_m", stop_m, 0.05, 5.0, "m")
       .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
+      .result();
+}
+
+Status MissionRunnerConfig::validate() const {
+  return Checks("runner")
+      .nested(obstacle.validate())
+      .range("lost_turn_radps", lost_turn_radps, 0.0, 2.0, "rad/s")
+      .range("lost_turn_clearance_m", lost_turn_clearance_m, 0.0, 1.0, "m")
       .result();
 }
 
@@ -33,7 +44,26 @@ MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, in
       out_(out),
       faults_(faults),
       guard_(cfg.obstacle, obstacles, odom),
+      obstacles_(obstacles),
+      odom_(odom),
+      lost_turn_radps_(cfg.lost_turn_radps),
+      lost_turn_clearance_m_(cfg.lost_turn_clearance_m),
       imu_present_(imu_present) {}
+
+// The motion while the mission is held: still, or a turn in place when there is room for one.
+MotionRequest MissionRunner::held() const {
+  MotionRequest m;
+  if (lost_turn_radps_ <= 0.0) return m;
+  const ObstacleField& f = obstacles_.get();
+  const Footprint& fp = f.footprint();
+  // The circle the turn sweeps lies this far beyond the rectangle at most (at its corners'
+  // sides); clearance_m measures from the rectangle.
+  const double sweep =
+      std::hypot(fp.half_length_m, fp.half_width_m) - std::min(fp.half_length_m, fp.half_width_m);
+  if (!f.valid() || f.clearance_m(odom_.get().pose) < sweep + lost_turn_clearance_m_) return m;
+  m.twist.wz = lost_turn_radps_;
+  return m;
+}
 
 void MissionRunner::run() {
   const SensorFrame& f = frame_.get();
@@ -48,8 +78,15 @@ void MissionRunner::run() {
   }
   if (pose_ != nullptr && !pose_->get().localised) {
     ++tel_.unlocalised_ticks;
-    out_.publish(MotionRequest{}, f.now_ns);
+    const MotionRequest m = held();
+    if (m.twist.wz != 0.0) ++tel_.lost_turn_ticks;
+    out_.publish(m, f.now_ns);
     return;
+  }
+  if (pose_ != nullptr && pose_->get().relocalisations != seen_relocalisations_) {
+    seen_relocalisations_ = pose_->get().relocalisations;
+    ++tel_.relocalisations;
+    if (entered_) mission_.relocalised();
   }
   guard_.new_tick();
   MissionContext ctx;

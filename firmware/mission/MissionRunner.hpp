@@ -24,8 +24,16 @@ struct ObstacleStopConfig {
 
 struct MissionRunnerConfig {
   ObstacleStopConfig obstacle;
+  // While the pose is not localised the mission is held; the robot then turns in place at this
+  // rate, so that a 2D lidar that sees only ahead shows the localisation the whole room, or
+  // stands still at 0 [rad/s]. It turns only with room to turn (see lost_turn_clearance_m).
+  double lost_turn_radps = 0.0;
+  // Turning in place sweeps the footprint's circumscribed circle: it turns only while every
+  // lidar point is at least this far beyond that circle (the lidar sees only its field of view;
+  // behind the robot it trusts the room it came through) [m].
+  double lost_turn_clearance_m = 0.05;
 
-  Status validate() const { return obstacle.validate(); }
+  Status validate() const;
 };
 
 // The obstacle-ahead question, answered at most once per tick (the missions and the runner's
@@ -48,7 +56,9 @@ class ObstacleGuard {
 
 struct MissionRunnerTelemetry {
   std::uint64_t obstacle_stops = 0;     // guarded motions the runner stopped for an obstacle
-  std::uint64_t unlocalised_ticks = 0;  // ticks held still while the pose was not localised
+  std::uint64_t unlocalised_ticks = 0;  // ticks the mission was held: pose not localised
+  std::uint64_t lost_turn_ticks = 0;    // of those, ticks turning in place to look round
+  std::uint32_t relocalisations = 0;    // pose jumps passed on to the mission
   bool stopped = false;                 // the mission was stopped by a fault (safe stop)
 };
 
@@ -78,7 +88,12 @@ class MissionRunner {
   Topic<MotionRequest>& out_;
   FaultSink& faults_;
   ObstacleGuard guard_;
+  const Topic<ObstacleField>& obstacles_;
+  const Topic<OdometryMsg>& odom_;
+  double lost_turn_radps_, lost_turn_clearance_m_;
   const Topic<OdometryMsg>* pose_ = nullptr;
+  std::uint32_t seen_relocalisations_ = 0;
+  MotionRequest held() const;
   bool entered_ = false;
   bool imu_present_;
   bool imu_seen_ = false;

@@ -190,6 +190,36 @@ std::vector<std::string> SimRun::take_log() {
   return out;
 }
 
+namespace {
+// expect's localisation keys against summary.json's figures; a null figure (never converged,
+// never relocalised) fails.
+void check_localisation(const ExpectSpec& x, RunSummary& r) {
+  char buf[160];
+  auto check = [&](const char* key, const std::optional<double>& bound,
+                   const std::optional<double>& got, const char* never) {
+    if (!bound) return;
+    if (!got) {
+      std::snprintf(buf, sizeof buf, "%s: expected <= %.3f, got %s", key, *bound, never);
+    } else if (!(*got <= *bound)) {
+      std::snprintf(buf, sizeof buf, "%s: expected <= %.3f, got %.3f", key, *bound, *got);
+    } else {
+      return;
+    }
+    r.unmet_expectations.emplace_back(buf);
+  };
+  check("max_time_to_converge_s", x.max_time_to_converge_s, r.time_to_converge_s,
+        "never converged");
+  check("max_localisation_rmse_m", x.max_localisation_rmse_m, r.localisation_rmse_m,
+        "never converged");
+  if (x.max_relocalise_s && r.relocalised_after_kidnaps_s.empty()) {
+    check("max_relocalise_s", x.max_relocalise_s, std::nullopt, "no kidnap happened");
+  }
+  for (const std::optional<double>& k : r.relocalised_after_kidnaps_s) {
+    check("max_relocalise_s", x.max_relocalise_s, k, "never relocalised");
+  }
+}
+}  // namespace
+
 RunSummary SimRun::summary(double wall_time_s) {
   fw::LineFirmware& firmware = *topo_.firmware;
   firmware.refresh_telemetry();
@@ -303,6 +333,7 @@ RunSummary SimRun::summary(double wall_time_s) {
     miss("max_goal_yaw_error_deg: expected <= %.1f, got %.1f", *x.max_goal_yaw_error_deg,
          r.goal_yaw_error_deg.value_or(-1.0));
   }
+  check_localisation(x, r);
   if (x.min_replans && r.replans < *x.min_replans) {
     miss("min_replans: expected >= %.0f, got %.0f", *x.min_replans, double(r.replans));
   }

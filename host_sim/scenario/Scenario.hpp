@@ -117,10 +117,15 @@ struct ExpectSpec {
   std::vector<CellExpect> cells;
   std::optional<double> min_coverage;             // coverage: swept fraction at least this
   std::optional<double> max_coverage_time_ratio;  // coverage: time / lower bound at most this
+  // On a map: localisation scored against the true pose (null figures fail).
+  std::optional<double> max_time_to_converge_s;   // [s]
+  std::optional<double> max_relocalise_s;         // every kidnap's relocalisation time [s]
+  std::optional<double> max_localisation_rmse_m;  // after convergence [m]
   bool any() const {
     return end_reached || max_collisions || max_cross_track_rms_m || min_progress || min_laps ||
            max_end_stop_error_m || goal_reached || max_goal_error_m || max_goal_yaw_error_deg ||
-           fault || min_replans || !cells.empty() || min_coverage || max_coverage_time_ratio;
+           fault || min_replans || !cells.empty() || min_coverage || max_coverage_time_ratio ||
+           max_time_to_converge_s || max_relocalise_s || max_localisation_rmse_m;
   }
 };
 

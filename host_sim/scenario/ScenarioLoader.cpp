@@ -324,12 +324,6 @@ CellExpect parse_cell_expect(const Node& m) {
   return c;
 }
 
-Pose2 parse_pose(const Node& m) {
-  m.expect_map({"x", "y", "yaw_deg"});
-  return {m.at("x").number(kCoord), m.at("y").number(kCoord),
-          deg2rad(m.at("yaw_deg").number(kYawDeg))};
-}
-
 KidnapSpec parse_kidnap(const Node& m) {
   m.expect_map({"t_s", "x", "y", "yaw_deg"});
   KidnapSpec k;
@@ -340,20 +334,17 @@ KidnapSpec parse_kidnap(const Node& m) {
 }
 
 LocalisationSpec parse_localisation(const Node& m) {
-  m.expect_map({"initial_pose", "global", "kidnap", "initial_sigma_xy_m", "initial_sigma_yaw_deg",
-                "recovery"});
+  // The keys a robot's mission file has too (loader/MissionSections.hpp), and the kidnaps.
+  loader::LocalisationStartSpec start;
+  loader::parse_localisation_start(m, {"kidnap"}, start);
   LocalisationSpec l;
-  if (auto n = m.get("initial_sigma_xy_m")) {
-    l.initial_sigma_xy_m = n->number(Range::closed(0.01, 10.0));
-  }
-  if (auto n = m.get("initial_sigma_yaw_deg")) {
-    l.initial_sigma_yaw_rad = deg2rad(n->number(Range::closed(0.5, 180.0)));
-  }
-  if (auto n = m.get("recovery")) l.recovery = n->boolean();
-  if (auto n = m.get("initial_pose")) l.initial_pose = parse_pose(*n);
-  if (auto n = m.get("global")) l.global = n->boolean();
-  if (l.global && l.initial_pose) {
-    m.at("global").expected("no initial_pose with global: true", "both");
+  l.initial_sigma_xy_m = start.initial_sigma_xy_m;
+  l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
+  l.recovery = start.recovery;
+  l.global = start.global;
+  if (start.has_initial_pose) {
+    l.initial_pose =
+        Pose2{start.initial_pose.x_m, start.initial_pose.y_m, deg2rad(start.initial_pose.yaw_deg)};
   }
   l.kidnaps = parse_list<KidnapSpec>(m.get("kidnap"), 16, "kidnap", parse_kidnap);
   for (std::size_t i = 1; i < l.kidnaps.size(); ++i) {
@@ -378,8 +369,18 @@ ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
                 "max_goal_yaw_error_deg", "fault", "min_replans", "cells", "min_coverage",
-                "max_coverage_time_ratio"});
+                "max_coverage_time_ratio", "max_time_to_converge_s", "max_relocalise_s",
+                "max_localisation_rmse_m"});
   ExpectSpec e;
+  if (auto n = m.get("max_time_to_converge_s")) {
+    e.max_time_to_converge_s = n->number(Range::closed(0.0, 86400.0));
+  }
+  if (auto n = m.get("max_relocalise_s")) {
+    e.max_relocalise_s = n->number(Range::closed(0.0, 86400.0));
+  }
+  if (auto n = m.get("max_localisation_rmse_m")) {
+    e.max_localisation_rmse_m = n->number(Range::open_closed(0.0, 10.0));
+  }
   if (auto n = m.get("goal_reached")) e.goal_reached = n->boolean();
   if (auto n = m.get("max_goal_error_m")) {
     e.max_goal_error_m = n->number(Range::open_closed(0.0, 10.0));
@@ -455,7 +456,19 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
     if (!s.map) n->expected("a map: (localisation runs on a known map)", "no map");
   }
   if (auto n = root.get("odometry")) s.odometry = parse_odometry(*n);
-  if (auto n = root.get("expect")) s.expect = parse_expect(*n);
+  if (auto n = root.get("expect")) {
+    s.expect = parse_expect(*n);
+    // Localisation is scored only on a map, and a relocalisation only after a kidnap.
+    for (const char* k :
+         {"max_time_to_converge_s", "max_relocalise_s", "max_localisation_rmse_m"}) {
+      if (auto e = n->get(k); e && !s.map) {
+        e->expected("a map: (localisation is scored on a known map)", "no map");
+      }
+    }
+    if (auto e = n->get("max_relocalise_s"); e && s.localisation.kidnaps.empty()) {
+      e->expected("a kidnap in localisation.kidnap", "none");
+    }
+  }
 
   // follow_line needs tape of the mission's colour to follow.
   const bool has_line = std::any_of(s.lines.begin(), s.lines.end(), [&](const LineSpec& l) {

@@ -1,6 +1,7 @@
 // The Localisation component: without a map the pose is the odometry, bit for bit; on a map it
 // starts where it is told, converges onto the true pose from the scans (held unlocalised until
-// then) and allocates nothing in its ticks.
+// then) and allocates nothing in its ticks; kidnapped, it reports itself lost as soon as the
+// scans stop fitting (before the spread widens), finds itself again and counts the jump.
 #include "firmware/app/Localisation.hpp"
 
 #include <gtest/gtest.h>
@@ -115,6 +116,87 @@ TEST(Localisation, OnAMapItConvergesOntoTheTruePoseAndOnlyThenIsLocalised) {
   EXPECT_LT(std::abs(wrap_angle(p.yaw - truth.yaw)), 0.05) << p.yaw;
   EXPECT_GE(l.telemetry().updates, 1U);
   EXPECT_EQ(l.telemetry().lost, 0U);
+}
+
+// The robot turns in place (0.6 rad a scan: enough to update) at `at`, the odometry turning with
+// it from `odom_yaw`; n scans, 5 ticks each. Returns the pose topic after each scan.
+struct Turn {
+  Rig& r;
+  Localisation& l;
+  const OccupancyGrid& map;
+  std::int64_t t = 0;
+  std::uint32_t seq = 0;
+  double odom_yaw = 0.0;
+  // Into `out` (reserved by the caller: nothing allocated here).
+  void run(const Pose2& at, double& yaw, int n, std::vector<OdometryMsg>& out) {
+    for (int k = 0; k < n; ++k) {
+      yaw = wrap_angle(yaw + 0.6);
+      odom_yaw = wrap_angle(odom_yaw + 0.6);
+      r.odom.edit().pose = {0.0, 0.0, odom_yaw};
+      const hal::LaserScan s = scan_from(map, {at.x, at.y, yaw}, ++seq);
+      for (int i = 0; i < 5; ++i) r.tick(l, t += 10'000'000, &s);
+      out.push_back(r.pose.get());
+    }
+  }
+};
+
+TEST(Localisation, AKidnapIsLostByTheFitBeforeTheSpreadWidensThenFoundAgainAsAJump) {
+  MapInfo info;
+  const std::vector<std::uint8_t> cells = room(info);
+  OccupancyGrid map(cells.size());
+  ASSERT_TRUE(map.assign(info, cells.data()).is_ok());
+  Rig r;
+  LocalisationConfig cfg;
+  cfg.enabled = true;
+  cfg.initial_pose = {-1.5, 0.8, 0.0};  // told the truth
+  cfg.initial_sigma_xy_m = 0.1;
+  cfg.initial_sigma_yaw_rad = 0.1;
+  cfg.mcl.max_particles = 3000;
+  cfg.mcl.sigma_hit_m = 0.2;
+  cfg.mcl.laser_max_range_m = 8.0;
+  cfg.mcl.alpha_slow = 0.001;  // augmented MCL on (the MclConfig defaults)
+  cfg.mcl.alpha_fast = 0.1;
+  ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
+  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
+  Turn turn{r, l, map};
+  double yaw = 0.0;
+  const Pose2 start{-1.5, 0.8, 0.0};
+  std::vector<OdometryMsg> before, after;
+  before.reserve(30);
+  after.reserve(80);
+  turn.run(start, yaw, 30, before);
+  ASSERT_TRUE(before.back().localised);
+  EXPECT_EQ(before.back().relocalisations, 0U);
+  EXPECT_LT(std::hypot(before.back().pose.x - start.x, before.back().pose.y - start.y), 0.1);
+  // Lifted across the room; the odometry knows nothing of it.
+  const Pose2 there{1.6, -1.1, 0.0};
+  test::alloc::begin_window();
+  turn.run(there, yaw, 80, after);
+  test::alloc::end_window();
+  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  int lost_at = -1, found_at = -1;
+  for (int k = 0; k < int(after.size()); ++k) {
+    if (lost_at < 0 && !after[std::size_t(k)].localised) lost_at = k;
+    if (lost_at >= 0 && found_at < 0 && after[std::size_t(k)].localised) found_at = k;
+  }
+  // Lost within 3 scans of the kidnap, by the fit: the cloud was still tight (within twice the
+  // bounds) when the scans stopped fitting.
+  ASSERT_GE(lost_at, 0);
+  EXPECT_LE(lost_at, 3);
+  EXPECT_EQ(l.telemetry().lost, 1U);
+  EXPECT_EQ(l.telemetry().lost_by_fit, 1U);
+  // Found again, where the robot is, and the jump is counted once (the costmap and the mission
+  // read it); not localised in between.
+  ASSERT_GT(found_at, lost_at) << "never found again";
+  const OdometryMsg& last = after.back();
+  EXPECT_TRUE(last.localised);
+  EXPECT_LT(std::hypot(last.pose.x - there.x, last.pose.y - there.y), 0.1)
+      << last.pose.x << ", " << last.pose.y;
+  EXPECT_EQ(last.relocalisations, 1U);
+  EXPECT_EQ(l.telemetry().relocalisations, 1U);
+  for (int k = found_at; k < int(after.size()); ++k) {
+    EXPECT_EQ(after[std::size_t(k)].relocalisations, 1U) << k;
+  }
 }
 
 }  // namespace

@@ -1,12 +1,14 @@
 // The Mapping component with terrain: a 3D sweep goes through the cycle in bounded pieces (bin,
 // fuse, analyse, combine), and the result equals the whole computation done at once; no master
 // is published before the first cycle completes; a sweep replaced while it is being binned is
-// abandoned, and nothing of it reaches the map.
+// abandoned, and nothing of it reaches the map. On a known map: scans are marked only while the
+// pose is localised, and a relocalisation (the pose may have jumped) forgets the obstacle layer.
 #include "firmware/app/Mapping.hpp"
 
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "tests/unit/mapping/SyntheticTerrain.hpp"
@@ -147,6 +149,77 @@ TEST(MappingTest, ASweepReplacedWhileBinningIsAbandoned) {
       ASSERT_LT(c.height_m, 0.05F) << lx << ", " << ly;
     }
   EXPECT_GT(observed, 1000);
+}
+
+// One return, `range` away along `angle` from a sensor at the robot centre.
+hal::LaserScan one_beam(std::uint32_t seq, double angle, double range) {
+  hal::LaserScan s;
+  s.seq = seq;
+  s.count = 1;
+  s.angle_min_rad = float(angle);
+  s.angle_increment_rad = 0.01F;
+  s.range_min_m = 0.05F;
+  s.range_max_m = 8.0F;
+  s.ranges_m[0] = float(range);
+  return s;
+}
+
+TEST(MappingTest, OnAMapScansMarkOnlyWhileLocalisedAndARelocalisationForgetsTheMarks) {
+  // A 4 x 4 m free square at 0.05 m, walls on its border.
+  MapInfo info{80, 80, 0.05, -2.0, -2.0};
+  std::vector<std::uint8_t> cells(80 * 80, cost::kFree);
+  for (int j = 0; j < 80; ++j)
+    for (int i = 0; i < 80; ++i)
+      if (i == 0 || j == 0 || i == 79 || j == 79) cells[std::size_t(j * 80 + i)] = cost::kLethal;
+  OccupancyGrid map(cells.size());
+  ASSERT_TRUE(map.assign(info, cells.data()).is_ok());
+  MappingConfig cfg;
+  cfg.enabled = true;
+  ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
+  Topic<SensorFrame> frame;
+  Topic<OdometryMsg> pose;
+  Mapping m(cfg, kRateHz, frame, pose, &map);
+  ASSERT_TRUE(m.on_map());
+  hal::TimeNs now = 0;
+  auto tick = [&](const hal::LaserScan* scan, bool localised, std::uint32_t relocalisations) {
+    now += kTickNs;
+    frame.edit().now_ns = now;
+    frame.edit().scan = scan;
+    frame.publish(now);
+    OdometryMsg p;
+    p.localised = localised;
+    p.relocalisations = relocalisations;
+    pose.publish(p, now);
+    m.run();
+  };
+  auto lethal = [&](const RollingGrid<std::uint8_t>& g, double x, double y) {
+    int cx = 0, cy = 0;
+    return g.world_to_cell(x, y, cx, cy) && g.at(cx, cy) == cost::kLethal;
+  };
+  // Localised: a return 1 m ahead marks its cell, and the master shows it at its next rebuild.
+  const hal::LaserScan ahead = one_beam(1, 0.0, 1.0);
+  for (int k = 0; k < 25; ++k) tick(&ahead, true, 0);
+  EXPECT_TRUE(lethal(m.obstacles(), 1.0, 0.0));
+  EXPECT_TRUE(lethal(m.master(), 1.0, 0.0));
+  // Not localised: a scan is not marked (counted), the old mark stays.
+  const hal::LaserScan left = one_beam(2, 0.5 * kPi, 1.0);
+  tick(&left, false, 0);
+  EXPECT_FALSE(lethal(m.obstacles(), 0.0, 1.0));
+  EXPECT_TRUE(lethal(m.obstacles(), 1.0, 0.0));
+  EXPECT_EQ(m.telemetry().scans_unlocalised, 1U);
+  EXPECT_EQ(m.telemetry().obstacle_clears, 0U);
+  // Localised again after being lost: the layer is forgotten, in the master the same tick (a
+  // mission replanning on the jump reads it next); the walls of the map stay.
+  tick(&left, true, 1);
+  EXPECT_FALSE(lethal(m.obstacles(), 1.0, 0.0));
+  EXPECT_FALSE(lethal(m.master(), 1.0, 0.0));
+  EXPECT_TRUE(lethal(m.master(), -2.0 + 0.025, 0.0));
+  EXPECT_EQ(m.telemetry().obstacle_clears, 1U);
+  // Once: the same count does not clear again, and new scans mark again.
+  const hal::LaserScan ahead2 = one_beam(3, 0.0, 1.0);
+  for (int k = 0; k < 25; ++k) tick(&ahead2, true, 1);
+  EXPECT_TRUE(lethal(m.obstacles(), 1.0, 0.0));
+  EXPECT_EQ(m.telemetry().obstacle_clears, 1U);
 }
 
 }  // namespace

@@ -115,6 +115,40 @@ TEST(MclLikelihoodField, TableHoldsTheSensorModel) {
   }
 }
 
+// A wall four cells thick (columns 20 to 23 of a 40 x 5 map, 0.05 m cells): to cell centres the
+// whole wall reads distance 0 (an estimate may slide 0.1 m into it for free); to the surface
+// the faces read half a cell on both sides and the inside is as unlikely as the outside.
+TEST(MclLikelihoodField, SurfaceDistancesPenaliseEndpointsInsideAThickWall) {
+  std::vector<std::uint8_t> cells(40 * 5, cost::kFree);
+  for (int j = 0; j < 5; ++j)
+    for (int i = 20; i < 24; ++i) cells[std::size_t(j * 40 + i)] = cost::kLethal;
+  const OccupancyGrid g = make_grid(40, 5, 0.05, cells);
+  LikelihoodFieldConfig cfg;
+  cfg.sigma_hit_m = 0.1;
+  const LikelihoodField centres(cfg, g);
+  cfg.surface_distance = true;
+  const LikelihoodField surface(cfg, g);
+  ASSERT_TRUE(centres.ok() && surface.ok());
+  const auto at = [&](const LikelihoodField& f, int i) {
+    const Vec2 c = g.centre(i, 2);
+    return f.log_p(c.x(), c.y());
+  };
+  const auto p = [&](double d) { return float(surface.log_p_of_distance(d)); };
+  for (int i = 20; i < 24; ++i) EXPECT_EQ(at(centres, i), p(0.0)) << i;
+  EXPECT_EQ(at(centres, 19), p(0.05));
+  // Free side, 1.5 and 0.5 cells from the face; the face cells; 1.5 cells deep on both sides.
+  EXPECT_EQ(at(surface, 18), p(0.075));
+  EXPECT_EQ(at(surface, 19), p(0.025));
+  EXPECT_EQ(at(surface, 20), p(0.025));
+  EXPECT_EQ(at(surface, 21), p(0.075));
+  EXPECT_EQ(at(surface, 22), p(0.075));
+  EXPECT_EQ(at(surface, 23), p(0.025));
+  EXPECT_EQ(at(surface, 24), p(0.025));
+  // The distances the filter reports stay to cell centres.
+  EXPECT_DOUBLE_EQ(surface.distance(19, 2), 0.05);
+  EXPECT_DOUBLE_EQ(surface.distance(21, 2), 0.0);
+}
+
 TEST(MclLikelihoodField, UnknownCellsMeasureTheirDistanceLikeFreeOnes) {
   const OccupancyGrid g = make_house();
   const LikelihoodField f(LikelihoodFieldConfig{}, g);

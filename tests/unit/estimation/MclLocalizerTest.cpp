@@ -293,6 +293,63 @@ TEST(MclLocalizer, SameSeedSameParticlesWhateverTheStepBudget) {
   EXPECT_LT(same, n / 10);
 }
 
+// The search model (MclConfig::search_*) weighs exactly as a filter built with that model, from
+// the update after set_search(true) on, and no longer after set_search(false); a change restarts
+// augmented MCL's likelihood averages (they are of one model).
+TEST(MclLocalizer, TheSearchModelWeighsAsAFilterBuiltWithIt) {
+  const OccupancyGrid map = make_house();
+  MclConfig two = house_config(5);
+  two.sigma_hit_m = 0.1;
+  two.beam_correlation = 0.05;
+  two.search_sigma_hit_m = 0.25;
+  two.search_beam_correlation = 0.3;
+  MclConfig search_only = house_config(5);
+  search_only.sigma_hit_m = 0.25;
+  search_only.beam_correlation = 0.3;
+  ASSERT_TRUE(two.validate().is_ok()) << two.validate().message();
+  MonteCarloLocalizer a(two, map), b(search_only, map);
+  a.set_search(true);
+  EXPECT_TRUE(a.searching());
+  TourDriver driver(house_tour(), 5, 1);
+  MclRng sensor(5);
+  hal::LaserScan scan;
+  auto same = [&]() {
+    if (a.particle_count() != b.particle_count()) return false;
+    for (int i = 0; i < a.particle_count(); ++i) {
+      if (a.particles()[i].x != b.particles()[i].x || a.particles()[i].yaw != b.particles()[i].yaw)
+        return false;
+    }
+    return true;
+  };
+  int updates = 0;
+  for (int t = 0; t < 150; ++t) {
+    driver.step();
+    if (t % 5 != 0) continue;
+    synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
+    const bool ua = a.update(scan, driver.odom(), kMount);
+    ASSERT_EQ(ua, b.update(scan, driver.odom(), kMount));
+    updates += ua ? 1 : 0;
+  }
+  ASSERT_GT(updates, 3);
+  EXPECT_TRUE(same());
+  EXPECT_EQ(a.estimate().x, b.estimate().x);
+  EXPECT_GT(a.telemetry().w_slow, 0.0);
+  a.set_search(false);
+  EXPECT_EQ(a.telemetry().w_slow, 0.0);
+  EXPECT_EQ(a.telemetry().w_fast, 0.0);
+  bool diverged = false;
+  for (int t = 0; t < 100 && !diverged; ++t) {
+    driver.step();
+    if (t % 5 != 0) continue;
+    synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
+    if (a.update(scan, driver.odom(), kMount)) {
+      (void)b.update(scan, driver.odom(), kMount);
+      diverged = !same();
+    }
+  }
+  EXPECT_TRUE(diverged);
+}
+
 TEST(MclLocalizer, UpdatesAfterEnoughMotionAndSkipsInvalidBeams) {
   const OccupancyGrid map = make_house();
   MclConfig cfg = house_config(1);

@@ -118,6 +118,9 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   // Recovery off by default (AMCL's): no random injection.
   EXPECT_EQ(c.localisation.mcl.alpha_fast, 0.0);
   EXPECT_EQ(c.localisation.mcl.alpha_slow, 0.0);
+  // Told where it starts, it waits still while not localised.
+  EXPECT_FALSE(c.localisation.search_while_unlocalised);
+  EXPECT_EQ(c.runner.lost_turn_radps, 0.0);
 
   // No initial pose: the given default; recovery on keeps MclConfig's rates.
   LocalisationStartSpec start;
@@ -129,6 +132,9 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   EXPECT_DOUBLE_EQ(d.localisation.initial_pose.yaw, 0.25);
   EXPECT_GT(d.localisation.mcl.alpha_fast, d.localisation.mcl.alpha_slow);
   EXPECT_GT(d.localisation.mcl.alpha_slow, 0.0);
+  // A robot that may be carried elsewhere searches the map and looks round while lost.
+  EXPECT_TRUE(d.localisation.search_while_unlocalised);
+  EXPECT_GT(d.runner.lost_turn_radps, 0.0);
 }
 
 }  // namespace

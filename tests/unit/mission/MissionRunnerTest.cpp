@@ -195,5 +195,56 @@ TEST(MissionRunnerTest, HoldsStillWithoutUpdatingWhileThePoseIsNotLocalised) {
   EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.3);
 }
 
+TEST(MissionRunnerTest, LostItTurnsInPlaceOnlyWithRoomToTurnAndPassesAJumpOnOnce) {
+  Rig r;
+  MissionRunnerConfig cfg;
+  cfg.lost_turn_radps = 0.3;
+  ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
+  MissionRunner runner{cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
+  Topic<OdometryMsg> pose;
+  runner.watch_pose(pose);
+  auto tick = [&](double t_s) {
+    SensorFrame& f = r.frame.edit();
+    f.now_ns = hal::TimeNs(t_s * 1e9);
+    f.wheels.count = 2;
+    for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
+    r.frame.publish(f.now_ns);
+    runner.run();
+  };
+  r.mission.next.motion.twist = {0.3, 0.0, 0.0};
+  pose.edit().localised = true;
+  pose.publish(0);
+  tick(0.0);  // entered, driving
+  ASSERT_EQ(r.mission.enters, 1);
+  pose.edit().localised = false;
+  pose.publish(0);
+  // No scan yet: it does not know there is room, so it stays still.
+  tick(0.01);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  // The nearest return 0.5 m ahead of the centre: 0.25 m from the 0.5 x 0.5 m footprint, beyond
+  // the 0.10 m its corners sweep plus the 0.05 m margin: it turns, without asking the mission.
+  r.obstacle_at(0.5);
+  tick(0.02);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.wz, 0.3);
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+  EXPECT_EQ(r.mission.contexts.size(), 1U);
+  // 0.38 m ahead: 0.13 m from the footprint, within 0.10 + 0.05: still.
+  r.obstacle_at(0.38);
+  tick(0.03);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  EXPECT_EQ(runner.telemetry().lost_turn_ticks, 1U);
+  EXPECT_EQ(runner.telemetry().unlocalised_ticks, 3U);
+  EXPECT_EQ(r.mission.relocalisations, 0);
+  // Found again after a jump: the mission hears of it once, before its next update.
+  pose.edit().localised = true;
+  pose.edit().relocalisations = 1;
+  pose.publish(0);
+  tick(0.04);
+  tick(0.05);
+  EXPECT_EQ(r.mission.relocalisations, 1);
+  EXPECT_EQ(runner.telemetry().relocalisations, 1U);
+  EXPECT_EQ(r.mission.contexts.size(), 3U);
+}
+
 }  // namespace
 }  // namespace carril::fw

@@ -36,6 +36,7 @@ class ScriptedMission final : public Mission {
     pending_phase = nullptr;
     return p;
   }
+  void relocalised() override { ++relocalisations; }
   void counters(MissionCounters& out) const override {
     out.clear();
     out.push_back({"updates", static_cast<std::uint32_t>(contexts.size())});
@@ -48,7 +49,7 @@ class ScriptedMission final : public Mission {
   bool ask_obstacle = false;
   MissionState st{MissionStatus::Starting, 0, "WAIT", "idle", false};
   // Record.
-  int enters = 0, exits = 0;
+  int enters = 0, exits = 0, relocalisations = 0;
   double enter_t_s = -1.0;
   std::vector<MissionContext> contexts;
   std::vector<bool> saw_obstacle;
