@@ -148,13 +148,24 @@ struct WeightSets {
   }
 };
 
+// The particle counts the resampling benchmarks sweep, N to N.
+void resample_counts(benchmark::internal::Benchmark* b) {
+  for (int n : {1000, 2000, 4000, 8000, 16000}) b->Arg(n);
+}
+
+// n particles spread over a 10 x 8 m floor, every heading.
+std::vector<Particle> spread_particles(int n, MclRng& rng) {
+  std::vector<Particle> out(static_cast<std::size_t>(n));
+  for (auto& p : out) p = {rng.uniform(0, 10), rng.uniform(0, 8), rng.uniform(-kPi, kPi)};
+  return out;
+}
+
 void BM_LowVarianceResample(benchmark::State& state) {
   const int n = int(state.range(0));
   const WeightSets ws(n);
-  const auto un = static_cast<std::size_t>(n);
-  std::vector<Particle> in(un), out(un);
   MclRng rng(1);
-  for (auto& p : in) p = {rng.uniform(), rng.uniform(), rng.uniform()};
+  const std::vector<Particle> in = spread_particles(n, rng);
+  std::vector<Particle> out(in.size());
   LowVarianceResampler r;
   int set = 0;
   for (auto _ : state) {
@@ -166,21 +177,16 @@ void BM_LowVarianceResample(benchmark::State& state) {
   state.SetComplexityN(n);
 }
 BENCHMARK(BM_LowVarianceResample)
-    ->Arg(1000)
-    ->Arg(2000)
-    ->Arg(4000)
-    ->Arg(8000)
-    ->Arg(16000)
+    ->Apply(resample_counts)
     ->Complexity(benchmark::oN)
     ->Unit(benchmark::kMicrosecond);
 
 void BM_MclResampleStage(benchmark::State& state) {
   const int n = int(state.range(0));
   const WeightSets ws(n);
-  const auto un = static_cast<std::size_t>(n);
-  std::vector<Particle> in(un), out(un);
   MclRng rng(1);
-  for (auto& p : in) p = {rng.uniform(0, 10), rng.uniform(0, 8), rng.uniform(-kPi, kPi)};
+  const std::vector<Particle> in = spread_particles(n, rng);
+  std::vector<Particle> out(in.size());
   AliasTable alias(n);
   BinSet bins(n);
   LowVarianceResampler r;
@@ -204,11 +210,7 @@ void BM_MclResampleStage(benchmark::State& state) {
   state.SetComplexityN(n);
 }
 BENCHMARK(BM_MclResampleStage)
-    ->Arg(1000)
-    ->Arg(2000)
-    ->Arg(4000)
-    ->Arg(8000)
-    ->Arg(16000)
+    ->Apply(resample_counts)
     ->Complexity(benchmark::oN)
     ->Unit(benchmark::kMicrosecond);
 
@@ -238,11 +240,7 @@ void BM_AmclStyleResample(benchmark::State& state) {
   state.SetComplexityN(n);
 }
 BENCHMARK(BM_AmclStyleResample)
-    ->Arg(1000)
-    ->Arg(2000)
-    ->Arg(4000)
-    ->Arg(8000)
-    ->Arg(16000)
+    ->Apply(resample_counts)
     ->Complexity(benchmark::oNSquared)
     ->Unit(benchmark::kMillisecond);
 

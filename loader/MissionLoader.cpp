@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <initializer_list>
+#include <numbers>
 #include <optional>
+#include <vector>
 
 #include "loader/ColorThreshold.hpp"
 #include "loader/MissionSections.hpp"
@@ -38,6 +42,53 @@ void check_end_color(const Node& root, const MissionSpec& m) {
 }
 
 GoalSpec parse_goal(const Node& goal);
+
+// A mission file's keys for a mission on a known map (map:, localisation:) besides `keys`; a
+// scenario writes those at its top level.
+std::vector<std::string> with_map_keys(const MissionSchema& schema,
+                                       std::initializer_list<const char*> keys) {
+  std::vector<std::string> out(keys.begin(), keys.end());
+  if (schema.file) {
+    out.emplace_back("map");
+    out.emplace_back("localisation");
+  }
+  return out;
+}
+
+// A mission file's map: and localisation: (goto, waypoints, coverage). The map's path is
+// resolved against the file's folder by load_mission.
+void parse_map_keys(const Node& m, const MissionSchema& schema, MissionSpec& mission) {
+  if (!schema.file) return;
+  if (auto n = m.get("map")) {
+    mission.map_path = n->string();
+    if (mission.map_path.empty())
+      n->expected("a map file (ROS map_server YAML)", "an empty string");
+  }
+  if (auto n = m.get("localisation")) {
+    if (mission.map_path.empty()) n->expected("localisation only with a map:", "no map");
+    parse_localisation_start(*n, {}, mission.localisation);
+  }
+}
+
+// A list of min_n to max_n points [x, y] (yaw 0), as waypoint targets and area corners are written;
+// `what` names the items in the message ("targets").
+std::vector<GoalSpec> parse_points(const Node& list, std::size_t min_n, std::size_t max_n,
+                                   const char* what) {
+  const auto items = list.items();
+  if (items.size() < min_n || items.size() > max_n) {
+    list.expected("a list of " + std::to_string(min_n) + " to " + std::to_string(max_n) + " " +
+                      what + " [x, y]",
+                  std::to_string(items.size()) + " " + what);
+  }
+  std::vector<GoalSpec> out;
+  for (const Node& t : items) {
+    const auto xy = t.items();
+    if (xy.size() != 2) t.expected("a point [x, y]", "a list of " + std::to_string(xy.size()));
+    out.push_back(GoalSpec{xy[0].number(Range::closed(-1000.0, 1000.0)),
+                           xy[1].number(Range::closed(-1000.0, 1000.0)), 0.0});
+  }
+  return out;
+}
 void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                     MissionSpec& mission);
 void parse_speed(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
@@ -46,7 +97,8 @@ void parse_speed(const Node& m, const RobotSpec& robot, const MissionSchema& sch
 // goto: the goal pose, the speed (as follow_line's), the local follower and unknown cells.
 void parse_goto(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                 MissionSpec& mission) {
-  m.expect_map({"type", "goal", "goals", "speed_mps", "follower", "allow_unknown"});
+  m.expect_map(
+      with_map_keys(schema, {"type", "goal", "goals", "speed_mps", "follower", "allow_unknown"}));
   const auto one = m.get("goal");
   const auto many = m.get("goals");
   if (one && many) m.expected("exactly one of goal or goals", "both");
@@ -69,49 +121,36 @@ void parse_goto(const Node& m, const RobotSpec& robot, const MissionSchema& sche
   if (auto f = m.get("follower")) mission.follower = f->one_of({"pure_pursuit", "vff"});
   if (auto u = m.get("allow_unknown")) mission.allow_unknown = u->boolean();
   parse_speed(m, robot, schema, mission);
+  parse_map_keys(m, schema, mission);
 }
 
 // waypoints: targets driven to in turn with VFF, no planner (the course's avoidance practice).
 void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                      MissionSpec& mission) {
-  m.expect_map({"type", "targets", "laps", "reach_radius_m", "speed_mps"});
-  const Node list = m.at("targets");
-  const auto items = list.items();
-  if (items.empty() || items.size() > 32) {
-    list.expected("a list of 1 to 32 targets [x, y]", std::to_string(items.size()) + " targets");
-  }
-  for (const Node& t : items) {
-    const auto xy = t.items();
-    if (xy.size() != 2) t.expected("a point [x, y]", "a list of " + std::to_string(xy.size()));
-    mission.targets.push_back(GoalSpec{xy[0].number(Range::closed(-1000.0, 1000.0)),
-                                       xy[1].number(Range::closed(-1000.0, 1000.0)), 0.0});
-  }
+  m.expect_map(with_map_keys(schema, {"type", "targets", "laps", "reach_radius_m", "speed_mps"}));
+  mission.targets = parse_points(m.at("targets"), 1, 32, "targets");
   if (auto n = m.get("laps")) mission.laps = static_cast<int>(n->integer(1, 100));
   if (auto n = m.get("reach_radius_m"))
     mission.reach_radius_m = n->number(Range::closed(0.05, 2.0));
   parse_speed(m, robot, schema, mission);
+  parse_map_keys(m, schema, mission);
 }
 
 // coverage: the mode, the tool, the area and a time limit.
 void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                     MissionSpec& mission) {
-  m.expect_map({"type", "mode", "tool_width_m", "area", "max_time_s", "speed_mps"});
+  m.expect_map(
+      with_map_keys(schema, {"type", "mode", "tool_width_m", "area", "max_time_s", "speed_mps"}));
   if (auto n = m.get("mode")) mission.coverage_mode = n->one_of({"systematic", "vacuum"});
   if (auto n = m.get("tool_width_m")) mission.tool_width_m = n->number(Range::closed(0.05, 3.0));
   if (auto n = m.get("max_time_s")) mission.max_time_s = n->number(Range::closed(1.0, 86400.0));
-  if (auto a = m.get("area")) {
-    const auto items = a->items();
-    if (items.size() < 3 || items.size() > 16) {
-      a->expected("a polygon of 3 to 16 corners [x, y]", std::to_string(items.size()) + " corners");
-    }
-    for (const Node& t : items) {
-      const auto xy = t.items();
-      if (xy.size() != 2) t.expected("a point [x, y]", "a list of " + std::to_string(xy.size()));
-      mission.area.push_back(GoalSpec{xy[0].number(Range::closed(-1000.0, 1000.0)),
-                                      xy[1].number(Range::closed(-1000.0, 1000.0)), 0.0});
-    }
-  }
+  if (auto a = m.get("area")) mission.area = parse_points(*a, 3, 16, "corners");
   parse_speed(m, robot, schema, mission);
+  parse_map_keys(m, schema, mission);
+  if (schema.file && mission.coverage_mode == "systematic" && mission.map_path.empty()) {
+    m.child_path("map").expected("a map file: a systematic coverage mission plans on a map",
+                                 "nothing");
+  }
 }
 
 GoalSpec parse_goal(const Node& goal) {
@@ -156,6 +195,29 @@ Rgb parse_color(const Node& n, std::string* name_out) {
   if (!n.yaml().IsScalar() || !color_from_name(n.string(), rgb)) n.expected(what);
   if (name_out) *name_out = n.string();
   return rgb;
+}
+
+void parse_localisation_start(const Node& m, std::initializer_list<const char*> extra_keys,
+                              LocalisationStartSpec& out) {
+  std::vector<std::string> keys{"initial_pose", "global", "initial_sigma_xy_m",
+                                "initial_sigma_yaw_deg", "recovery"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  m.expect_map(keys);
+  if (auto n = m.get("initial_sigma_xy_m")) {
+    out.initial_sigma_xy_m = n->number(Range::closed(0.01, 10.0));
+  }
+  if (auto n = m.get("initial_sigma_yaw_deg")) {
+    out.initial_sigma_yaw_rad = n->number(Range::closed(0.5, 180.0)) * std::numbers::pi / 180.0;
+  }
+  if (auto n = m.get("recovery")) out.recovery = n->boolean();
+  if (auto n = m.get("initial_pose")) {
+    out.initial_pose = parse_goal(*n);
+    out.has_initial_pose = true;
+  }
+  if (auto n = m.get("global")) out.global = n->boolean();
+  if (out.global && out.has_initial_pose) {
+    m.at("global").expected("no initial_pose with global: true", "both");
+  }
 }
 
 void parse_mission(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
@@ -244,6 +306,11 @@ bool load_mission(const std::string& path, const RobotSpec& robot, MissionSpec& 
     parse_mission(root, robot, schema, mission);
     check_end_color(root, mission);
     mission.source_path = path;
+    if (!mission.map_path.empty()) {
+      mission.map_path = (std::filesystem::path(path).parent_path() / mission.map_path)
+                             .lexically_normal()
+                             .string();
+    }
   });
   if (ok) out = mission;
   return ok;

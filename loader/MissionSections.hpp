@@ -1,6 +1,7 @@
 #pragma once
 // The parts of a mission, for loaders that read one inside another file (a scenario's
 // `mission:` section). Internal to the loaders: throws strict::LoadError.
+#include <initializer_list>
 #include <string>
 
 #include "loader/MissionSpec.hpp"
@@ -18,6 +19,11 @@ struct MissionSchema {
   bool file = false;  // a mission file: also behavior:, strategy_gains:, tape_preview_m
   std::string speed_limit = "robot.limits.max_speed_mps";  // the robot's speed limit, in messages
 };
+
+// Reads a `localisation:` map (initial_pose, global, initial_sigma_xy_m, initial_sigma_yaw_deg,
+// recovery, and `extra_keys` the caller reads itself) into `out`.
+void parse_localisation_start(const strict::Node& m, std::initializer_list<const char*> extra_keys,
+                              LocalisationStartSpec& out);
 
 // Reads the mission map `m` for `robot`: type, strategy (line_priority needs a mecanum robot),
 // colours, speed (at most the robot's speed limit and what its wheels reach; the robot's cruise

@@ -20,6 +20,17 @@ struct GoalSpec {
   double yaw_deg = 0.0;         // [deg]
 };
 
+// Where a mission on a known map starts (a mission file's or a scenario's `localisation:`): what
+// the robot is told of its pose, and whether Monte Carlo localisation may re-seed itself.
+struct LocalisationStartSpec {
+  bool has_initial_pose = false;       // false: the robot's start (a scenario) or the map's origin
+  GoalSpec initial_pose;               // map frame [m, m, deg]
+  bool global = false;                 // no pose given: particles over all the free space
+  double initial_sigma_xy_m = 0.3;     // spread of the particles round initial_pose [m]
+  double initial_sigma_yaw_rad = 0.2;  // [rad] (written in degrees)
+  bool recovery = false;  // augmented MCL's random injection (needed to recover from a kidnap)
+};
+
 struct MissionSpec {
   std::string type = "follow_line";  // follow_line | goto | waypoints
   std::string strategy = "pid";      // line_priority | marks | pid
@@ -48,7 +59,11 @@ struct MissionSpec {
   std::string coverage_mode = "systematic";
   double tool_width_m = 0.0;  // 0: the robot's width [m]
   std::vector<GoalSpec> area;
-  double max_time_s = 1800.0;     // [s]
+  double max_time_s = 1800.0;  // [s]
+  // A mission file's known map (`map:`, resolved against the file's folder; "" without one)
+  // and where the robot starts on it. With a map, goals and targets are in the map frame.
+  std::string map_path;
+  LocalisationStartSpec localisation;
   std::vector<Setting> settings;  // a mission file's behavior:, strategy_gains:, tape_preview_m
   std::string source_path;        // the mission file ("" for a scenario's section)
 };

@@ -18,6 +18,9 @@ namespace carril::loader {
 // Largest image file read at all, checked before anything is allocated for it [bytes]: a
 // 1000 x 1000 map is 1 MB as P5 and about 4 MB as P2.
 inline constexpr std::size_t kMaxMapImageBytes = std::size_t{64} << 20;
+// Cells of a map a target loads (1000 x 1000: 50 x 50 m at 5 cm); the firmware's static map
+// buffer is sized to the map it is given.
+inline constexpr std::size_t kMaxMapCells = 1'000'000;
 // Longest side of an image [pixels] (MapInfo counts cells in int).
 inline constexpr std::uint64_t kMaxMapImageSide = 1U << 20;
 

@@ -27,7 +27,7 @@ CoverageScore::CoverageScore(const Scenario& s, const fw::FirmwareConfig& c,
     st = fw::Status::error("the start pose is not where the robot's centre fits");
   }
   if (st) st = grid_.init(map.info());
-  if (!st) throw std::invalid_argument(s.source_path + ": coverage area: " + st.message());
+  if (!st) throw std::invalid_argument(s.source_path + ": mission.area: " + st.message());
   grid_.set_mask(area_.coverable());
 }
 

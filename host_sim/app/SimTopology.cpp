@@ -6,6 +6,7 @@
 
 #include "host_sim/app/CostmapOutputs.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
+#include "loader/MapMission.hpp"
 #include "loader/OccupancyMapFile.hpp"
 
 namespace carril::sim {
@@ -38,20 +39,19 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
       throw std::invalid_argument(s.source_path + ": map: " + st.message());
     }
     c.map = map;
-    // Indoors on a surveyed floor: no terrain layer (nor a 3D lidar to render for it).
-    c.mapping.terrain = false;
-    c.localisation.enabled = true;
+    // The same set-up as the robot target's mission file with a map; the firmware is told the
+    // true start unless the scenario says otherwise.
+    loader::LocalisationStartSpec start;
+    start.global = s.localisation.global;
+    start.recovery = s.localisation.recovery;
+    start.initial_sigma_xy_m = s.localisation.initial_sigma_xy_m;
+    start.initial_sigma_yaw_rad = s.localisation.initial_sigma_yaw_rad;
     const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
-    c.localisation.initial_pose = {p.x, p.y, p.yaw_rad};
-    c.localisation.global = s.localisation.global;
-    c.localisation.lidar_mount = {c.lidar.x_m, c.lidar.y_m, c.lidar.yaw_rad};
-    c.localisation.mcl.laser_max_range_m = s.robot.lidar.range_max_m;
+    loader::configure_for_map(s.robot, start, {p.x, p.y, p.yaw_rad}, c);
     c.localisation.mcl.seed = seed;
     // Tuned to the simulated robot: a lidar with 1 cm range noise (sigma_hit 0.1 m, beams
     // counted as 1 + 59 x 0.05 correlated), odometry that drifts only by the scenario's
-    // odometry: section (alphas 0.05). Recovery by random injection (augmented MCL) only when
-    // the scenario asks for it, as AMCL's defaults (alpha_slow = alpha_fast = 0) leave it off:
-    // in a symmetric building it can trade a right estimate for a wrong one.
+    // odometry: section (alphas 0.05).
     fw::MclConfig& mc = c.localisation.mcl;
     mc.sigma_hit_m = 0.1;
     mc.beam_correlation = 0.05;
@@ -60,24 +60,17 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
     // Distances to cell centres (0 anywhere inside a 2-3 cell thick wall) let the estimate slide
     // 5 cm towards the walls in view (goto_house_mcl: RMSE 0.061 m median, 0.020 m with this).
     mc.surface_distance = true;
-    if (!s.localisation.recovery) mc.alpha_fast = mc.alpha_slow = 0.0;
     if (s.localisation.global || s.localisation.recovery) {
       // Finding itself over the whole house (global, or spread again after a kidnap): the
       // filter's default model (sigma_hit 0.2 m, beams counted as 1 + 59 x 0.2), which keeps
       // every room that fits a view alive until the turn tells them apart. With the tracking
       // model throughout, seeds 1-10: global localisation ended no_path on seed 9, the kidnap
       // took up to 26.5 s to recover (3.0 to 5.5 s with this). Localised, the tracking model
-      // again (its accuracy).
-      c.localisation.search_while_unlocalised = true;
+      // again (its accuracy). (configure_for_map switches the search on and has the robot look
+      // round while lost.)
       mc.search_sigma_hit_m = 0.2;
       mc.search_beam_correlation = 0.2;
     }
-    // A robot that may have to find itself with nothing to go by (told nothing, or kidnapped)
-    // looks round while it is lost: a slow turn in place shows the 180 deg lidar the whole
-    // room. Told where it starts, it waits still, as before.
-    if (s.localisation.global || s.localisation.recovery) c.runner.lost_turn_radps = 0.3;
-    c.localisation.initial_sigma_xy_m = s.localisation.initial_sigma_xy_m;
-    c.localisation.initial_sigma_yaw_rad = s.localisation.initial_sigma_yaw_rad;
     return c;
   }
   // A scenario's goals are in the world frame; the firmware's odometry starts at the start pose.

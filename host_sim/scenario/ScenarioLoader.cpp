@@ -54,8 +54,6 @@ constexpr std::size_t kMaxWalls = 256;
 constexpr std::size_t kMaxWallPoints = 4096;  // all walls
 constexpr std::size_t kMaxTerrain = 256;
 constexpr std::size_t kMaxCellExpects = 256;
-// Cells of a `map:` the simulator builds walls from (1000 x 1000: 50 x 50 m at 5 cm).
-constexpr std::size_t kMaxMapCells = 1'000'000;
 
 double deg2rad(double deg) {
   return deg * std::numbers::pi / 180.0;
@@ -326,12 +324,6 @@ CellExpect parse_cell_expect(const Node& m) {
   return c;
 }
 
-Pose2 parse_pose(const Node& m) {
-  m.expect_map({"x", "y", "yaw_deg"});
-  return {m.at("x").number(kCoord), m.at("y").number(kCoord),
-          deg2rad(m.at("yaw_deg").number(kYawDeg))};
-}
-
 KidnapSpec parse_kidnap(const Node& m) {
   m.expect_map({"t_s", "x", "y", "yaw_deg"});
   KidnapSpec k;
@@ -342,20 +334,17 @@ KidnapSpec parse_kidnap(const Node& m) {
 }
 
 LocalisationSpec parse_localisation(const Node& m) {
-  m.expect_map({"initial_pose", "global", "kidnap", "initial_sigma_xy_m", "initial_sigma_yaw_deg",
-                "recovery"});
+  // The keys a robot's mission file has too (loader/MissionSections.hpp), and the kidnaps.
+  loader::LocalisationStartSpec start;
+  loader::parse_localisation_start(m, {"kidnap"}, start);
   LocalisationSpec l;
-  if (auto n = m.get("initial_sigma_xy_m")) {
-    l.initial_sigma_xy_m = n->number(Range::closed(0.01, 10.0));
-  }
-  if (auto n = m.get("initial_sigma_yaw_deg")) {
-    l.initial_sigma_yaw_rad = deg2rad(n->number(Range::closed(0.5, 180.0)));
-  }
-  if (auto n = m.get("recovery")) l.recovery = n->boolean();
-  if (auto n = m.get("initial_pose")) l.initial_pose = parse_pose(*n);
-  if (auto n = m.get("global")) l.global = n->boolean();
-  if (l.global && l.initial_pose) {
-    m.at("global").expected("no initial_pose with global: true", "both");
+  l.initial_sigma_xy_m = start.initial_sigma_xy_m;
+  l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
+  l.recovery = start.recovery;
+  l.global = start.global;
+  if (start.has_initial_pose) {
+    l.initial_pose =
+        Pose2{start.initial_pose.x_m, start.initial_pose.y_m, deg2rad(start.initial_pose.yaw_deg)};
   }
   l.kidnaps = parse_list<KidnapSpec>(m.get("kidnap"), 16, "kidnap", parse_kidnap);
   for (std::size_t i = 1; i < l.kidnaps.size(); ++i) {
@@ -428,7 +417,7 @@ void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
   const std::string file = n.string();
   if (file.empty()) n.expected("a map file (ROS map_server YAML)", "an empty string");
   s.map_path = (std::filesystem::path(scenario_path).parent_path() / file).string();
-  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, kMaxMapCells);
+  loader::OccupancyMapLoad m = loader::load_occupancy_map(s.map_path, loader::kMaxMapCells);
   if (!m.ok()) n.fail("cannot load the map: " + m.error);
   s.map = std::make_shared<const loader::OccupancyMapData>(std::move(m.map));
 }

@@ -29,7 +29,9 @@
 #include "hal/canopen/Frames.hpp"
 #include "loader/ControllerLoader.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
+#include "loader/MapMission.hpp"
 #include "loader/MissionLoader.hpp"
+#include "loader/OccupancyMapFile.hpp"
 #include "loader/RobotLoader.hpp"
 #include "loader/TuningLoader.hpp"
 #include "targets/controller/ControllerTopology.hpp"
@@ -211,6 +213,40 @@ bool load_config(const Options& opt, carril::loader::RobotSpec& robot,
   return true;
 }
 
+// A mission on a known map (the mission file's map:): the map read into `grid` (sized to it, at
+// init) and the firmware set up to localise on it, which takes a 2D lidar. False with the reason
+// printed (the file and key) when the map cannot be read or no lidar is fitted.
+bool load_static_map(const Options& opt, const carril::loader::RobotSpec& robot,
+                     const carril::loader::ControllerSpec& controller,
+                     const carril::loader::MissionSpec& mission,
+                     std::unique_ptr<carril::fw::OccupancyGrid>& grid,
+                     carril::fw::FirmwareConfig& config) {
+  if (mission.map_path.empty()) return true;
+  if (controller.lidar.source == carril::loader::SensorSource::None) {
+    std::fprintf(stderr,
+                 "carril_controller: --mission: %s: map: localising on a map needs a 2D lidar, "
+                 "and %s: sensors.lidar.source is none\n",
+                 opt.mission, controller.source_path.c_str());
+    return false;
+  }
+  const carril::loader::OccupancyMapLoad m =
+      carril::loader::load_occupancy_map(mission.map_path, carril::loader::kMaxMapCells);
+  if (!m.ok()) {
+    std::fprintf(stderr, "carril_controller: --mission: %s: map: cannot load the map: %s\n",
+                 opt.mission, m.error.c_str());
+    return false;
+  }
+  grid = std::make_unique<carril::fw::OccupancyGrid>(m.map.cells.size());
+  if (const carril::fw::Status st = grid->assign(m.map.info, m.map.cells.data()); !st) {
+    std::fprintf(stderr, "carril_controller: --mission: %s: map: %s\n", opt.mission, st.message());
+    return false;
+  }
+  config.map = grid.get();
+  // Without an initial_pose the robot starts at the map's origin.
+  carril::loader::configure_for_map(robot, mission.localisation, {}, config);
+  return true;
+}
+
 void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
   const carril::fw::ControllerTelemetry& t = all.controller;
   std::printf("telemetry:\n");
@@ -336,6 +372,9 @@ int main(int argc, char** argv) {
   carril::loader::MissionSpec mission;
   carril::fw::FirmwareConfig config;
   if (!load_config(opt, robot, spec, mission, config)) return 2;
+  // Declared before the firmware that reads it, so it outlives it.
+  std::unique_ptr<carril::fw::OccupancyGrid> static_map;
+  if (!load_static_map(opt, robot, spec, mission, static_map, config)) return 2;
   if (carril::fw::Status s = config.validate(); !s) {
     std::fprintf(stderr, "carril_controller: configuration: %s\n", s.message());
     return 2;
@@ -361,6 +400,15 @@ int main(int argc, char** argv) {
   std::printf("carril_controller: robot %s (%s), controller %s, mission %s %s (%s)\n",
               robot.preset.c_str(), opt.robot, opt.controller, mission.type.c_str(),
               mission.strategy.c_str(), opt.mission);
+  if (static_map) {
+    const carril::fw::LocalisationConfig& l = cfg.localisation;
+    std::printf(
+        "carril_controller: map %s: %d x %d cells at %.3f m; localising %s (%.2f, %.2f, %.0f deg), "
+        "recovery %s\n",
+        mission.map_path.c_str(), static_map->nx(), static_map->ny(), static_map->resolution(),
+        l.global ? "globally, not from" : "from", l.initial_pose.x, l.initial_pose.y,
+        l.initial_pose.yaw * 180.0 / 3.14159265358979323846, l.mcl.alpha_fast > 0.0 ? "on" : "off");
+  }
   std::printf(
       "carril_controller: %s, wheel radius %.3f m, wheelbase %.2f m, track %.2f m, camera %dx%d, "
       "%.0f Hz; lidar %s, imu %s\n",

@@ -39,6 +39,20 @@ check "nothing written on bad input" test ! -e "$work/bad"
 check "missing file exits 2" test $? -eq 2
 check "missing file named" grep -q "nope.yaml" "$work/err"
 
+# 3b. A coverage area with no free cell the robot fits in (a triangle inside a wall of the house):
+# exit 2 naming mission.area, before any run.
+cat >"$work/no_area.yaml" <<EOF
+name: no_area
+duration_s: 10
+map: $src/scenarios/maps/house.yaml
+robot: {preset: pioneer3at, start: {x: 0.0, y: 0.0, yaw_deg: 0.0}}
+mission: {type: coverage, mode: systematic, area: [[1.9, 0.71], [2.1, 0.71], [2.0, 0.79]]}
+EOF
+"$sim" --scenario "$work/no_area.yaml" --out "$work/no_area" >"$work/out" 2>"$work/err"
+check "coverage area without a free cell exits 2" test $? -eq 2
+check "coverage area without a free cell: named" grep -q "no_area.yaml: mission.area: coverage area: no free cell where the robot fits" "$work/err"
+check "coverage area without a free cell: nothing written" test ! -e "$work/no_area"
+
 # 4. A run that misses its expect block exits 1 and says which expectation.
 sed 's/^duration_s: 50/duration_s: 5/' "$src/scenarios/circle.yaml" >"$work/short.yaml"
 "$sim" --scenario "$work/short.yaml" --out "$work/short" >"$work/out" 2>"$work/err"

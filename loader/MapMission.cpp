@@ -1,0 +1,35 @@
+#include "loader/MapMission.hpp"
+
+#include <numbers>
+
+namespace carril::loader {
+
+void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& start,
+                       const fw::Pose2& default_pose, fw::FirmwareConfig& c) {
+  // Indoors on a surveyed floor: no terrain layer (nor a 3D lidar to read for it).
+  c.mapping.terrain = false;
+  fw::LocalisationConfig& l = c.localisation;
+  l.enabled = true;
+  l.global = start.global;
+  l.initial_pose = start.has_initial_pose
+                       ? fw::Pose2{start.initial_pose.x_m, start.initial_pose.y_m,
+                                   start.initial_pose.yaw_deg * std::numbers::pi / 180.0}
+                       : default_pose;
+  l.initial_sigma_xy_m = start.initial_sigma_xy_m;
+  l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
+  l.lidar_mount = {c.lidar.x_m, c.lidar.y_m, c.lidar.yaw_rad};
+  l.mcl.laser_max_range_m = robot.lidar.range_max_m;
+  // Random injection can trade a right estimate for a wrong one in a symmetric building: only
+  // when asked (a robot that may be carried elsewhere).
+  if (!start.recovery) l.mcl.alpha_fast = l.mcl.alpha_slow = 0.0;
+  if (start.global || start.recovery) {
+    // A robot that may have to find itself with nothing to go by (told nothing, or carried
+    // elsewhere): the filter searches the whole map with its wide model while lost, and the robot
+    // looks round meanwhile (a slow turn in place, only with room to turn, shows a 180 deg lidar
+    // the whole room). Told where it starts, it waits still.
+    l.search_while_unlocalised = true;
+    c.runner.lost_turn_radps = 0.3;
+  }
+}
+
+}  // namespace carril::loader
