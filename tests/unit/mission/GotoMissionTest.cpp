@@ -127,6 +127,27 @@ TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
   EXPECT_GT(r.min_wall_distance, 0.25);
 }
 
+// The pose jumps (the localisation found the robot elsewhere): the path from the old pose is
+// dropped, the mission plans again from where the robot is, and gets to the goal from there.
+TEST(GotoMissionTest, ARelocalisationPlansAgainFromTheNewPose) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.start();
+  r.run(1.0);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Follow);
+  const std::uint32_t replans = r.mission->replans();
+  r.pose = {0.5, -1.5, kPi / 2};
+  r.mission->relocalised();
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Plan);
+  EXPECT_EQ(r.mission->replans(), replans + 1);
+  for (int i = 0; i < 200 && r.mission->current() == GotoMission::State::Plan; ++i) r.run(0.01);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Follow);
+  ASSERT_FALSE(r.mission->path().empty());
+  EXPECT_LT(std::hypot(r.mission->path()[0].x() - 0.5, r.mission->path()[0].y() + 1.5), 0.1);
+  r.run(60.0);
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_LT(std::hypot(r.pose.x - 2.0, r.pose.y), 0.1);
+}
+
 // A lethal cell just ahead of the front edge, the path running straight on past it (the master
 // has not inflated it yet): the robot stops and backs off rather than replanning where it
 // stands (which gave the same path into the same cell: PLAN -> FOLLOW -> PLAN until the time
