@@ -150,6 +150,14 @@ void apply_coverage(const RobotSpec& r, const MissionSpec& mission, fw::Firmware
       mission.coverage_mode == "vacuum" ? fw::CoverageMode::Vacuum : fw::CoverageMode::Systematic;
   k.tool_width_m = mission.tool_width_m > 0.0 ? mission.tool_width_m : r.width_m;
   k.speed_mps = mission.speed_mps;
+  // The followers drive the mission's speed (the score's lower bound is taken at it), turning
+  // no faster than the robot can.
+  k.sweep.cruise_speed_mps = mission.speed_mps;
+  k.sweep.max_yaw_rate_radps = c.limits.max_yaw_rate_radps;
+  k.transit_pursuit.cruise_speed_mps = mission.speed_mps;
+  k.transit_pursuit.max_yaw_rate_radps =
+      std::min(k.transit_pursuit.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
+  k.wall_clearance_m = mission.wall_clearance_m;
   k.max_time_s = mission.max_time_s;
   for (const GoalSpec& p : mission.area) k.area.push_back(fw::Vec2(p.x_m, p.y_m));
   k.vacuum.forward_speed_mps = std::min(k.vacuum.forward_speed_mps, mission.speed_mps);

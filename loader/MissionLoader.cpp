@@ -139,10 +139,13 @@ void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema&
 // coverage: the mode, the tool, the area and a time limit.
 void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                     MissionSpec& mission) {
-  m.expect_map(
-      with_map_keys(schema, {"type", "mode", "tool_width_m", "area", "max_time_s", "speed_mps"}));
+  m.expect_map(with_map_keys(schema, {"type", "mode", "tool_width_m", "wall_clearance_m", "area",
+                                      "max_time_s", "speed_mps"}));
   if (auto n = m.get("mode")) mission.coverage_mode = n->one_of({"systematic", "vacuum"});
   if (auto n = m.get("tool_width_m")) mission.tool_width_m = n->number(Range::closed(0.05, 3.0));
+  if (auto n = m.get("wall_clearance_m")) {
+    mission.wall_clearance_m = n->number(Range::closed(0.0, 1.0));
+  }
   if (auto n = m.get("max_time_s")) mission.max_time_s = n->number(Range::closed(1.0, 86400.0));
   if (auto a = m.get("area")) mission.area = parse_points(*a, 3, 16, "corners");
   parse_speed(m, robot, schema, mission);

@@ -57,7 +57,8 @@ struct MissionSpec {
   // the tool's width, the area (a polygon in the map frame; empty: the map's free space), and a
   // time limit (the vacuum's run time).
   std::string coverage_mode = "systematic";
-  double tool_width_m = 0.0;  // 0: the robot's width [m]
+  double tool_width_m = 0.0;      // 0: the robot's width [m]
+  double wall_clearance_m = 0.0;  // the lanes keep this beyond the robot's inscribed radius [m]
   std::vector<GoalSpec> area;
   double max_time_s = 1800.0;  // [s]
   // A mission file's known map (`map:`, resolved against the file's folder; "" without one)

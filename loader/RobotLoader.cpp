@@ -210,10 +210,17 @@ RobotSpec parse_preset(const Node& root) {
                 ? DriveType::Mecanum
                 : DriveType::Differential;
   const Node body = root.at("body");
-  body.expect_map({"length_m", "width_m", "mass_kg"});
+  body.expect_map({"length_m", "width_m", "mass_kg", "shape"});
   r.length_m = body.at("length_m").number(Range::closed(0.1, 5.0));
   r.width_m = body.at("width_m").number(Range::closed(0.1, 5.0));
   r.mass_kg = body.at("mass_kg").number(Range::closed(1.0, 5000.0));
+  if (auto n = body.get("shape")) {
+    r.round_body = n->one_of({"box", "round"}) == "round";
+    // A disc's footprint is the square round it: one diameter both ways.
+    if (r.round_body && r.length_m != r.width_m) {
+      n->fail("a round body needs length_m equal to width_m (its diameter)");
+    }
+  }
   const Node wheels = root.at("wheels");
   wheels.expect_map({"radius_m", "wheelbase_m", "track_m"});
   r.wheel_radius_m = wheels.at("radius_m").number(Range::closed(0.01, 1.0));

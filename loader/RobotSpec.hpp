@@ -90,6 +90,9 @@ struct RobotSpec {
   std::string source_path;  // the file it was read from ("" when not read from a file)
   DriveType drive = DriveType::Differential;
   double length_m = 0.5, width_m = 0.5;  // body footprint [m]
+  // body.shape: round: the simulator's body is the disc inscribed in the footprint (the firmware
+  // keeps the footprint's square round it).
+  bool round_body = false;
   double mass_kg = 30.0;
   double wheel_radius_m = 0.1;     // [m]
   double wheelbase_m = 0.4;        // front-rear axle distance (mecanum) [m]

@@ -27,15 +27,15 @@ Status VacuumConfig::validate() const {
 }
 
 CoverageConfig::CoverageConfig() {
-  // On the lanes: a lookahead shorter than the U-turns, so the robot follows them and its tool
-  // reaches the cells at the lane ends.
-  sweep_pursuit.lookahead_m = 0.2;
-  sweep_pursuit.cruise_speed_mps = speed_mps;
-  sweep_pursuit.slow_radius_m = 0.1;
-  sweep_pursuit.max_lateral_accel_mps2 = 1.0;
-  sweep_pursuit.max_yaw_rate_radps = 1.5;
+  sweep.cruise_speed_mps = speed_mps;
+  sweep.max_yaw_rate_radps = 1.5;
   transit_pursuit.cruise_speed_mps = speed_mps;
   transit_pursuit.slow_radius_m = 0.2;
+  // Short: a long lookahead cuts the corners of doors. Facing more than 0.4 rad away from the
+  // pursued point, turn on the spot: an arc started that far off heads into the wall beside a
+  // lane's end.
+  transit_pursuit.lookahead_m = 0.3;
+  transit_pursuit.rotate_in_place_rad = 0.4;
 }
 
 Status CoverageConfig::validate() const {
@@ -61,10 +61,11 @@ Status CoverageConfig::validate() const {
       .range("backup_speed_mps", backup_speed_mps, 0.01, 1.0, "m/s")
       .range("max_recoveries", double(max_recoveries), 0.0, 1000.0, "stops")
       .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
+      .range("mapped_wall_tolerance_m", mapped_wall_tolerance_m, 0.0, 1.0, "m")
       .range("max_cells", double(max_cells), 1.0, double(Boustrophedon::kMaxCellsLimit), "cells")
       .range("max_lanes", double(max_lanes), 1.0, 1e6, "lanes")
       .nested(vacuum.validate())
-      .nested(sweep_pursuit.validate())
+      .nested(sweep.validate())
       .nested(transit_pursuit.validate())
       .nested(tracker.validate())
       .nested(planner.validate());
@@ -113,7 +114,7 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
     : cfg_(cfg),
       footprint_(footprint),
       tracker_(cfg.tracker, holonomic),
-      sweep_follower_(cfg.sweep_pursuit),
+      sweep_follower_(cfg.sweep),
       transit_follower_(cfg.transit_pursuit),
       pose_(pose),
       costmap_(costmap),
@@ -131,6 +132,7 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
   ac.robot_radius_m =
       std::min(footprint.half_length_m, footprint.half_width_m) + cfg.wall_clearance_m;
   ac.tool_width_m = cfg.tool_width_m;
+  ac.box_distance = true;  // clear of door jambs' corners as of walls
   // Transits may leave the polygon: the planner's area is the whole map's.
   Status s = area_.build(static_map, ac);
   const std::size_t n = map_cells(static_map);
@@ -159,6 +161,8 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
   }
   plan_costs_ = std::make_unique<std::uint8_t[]>(n);
   abandoned_ = std::make_unique<std::uint8_t[]>(n);
+  mapped_ = std::make_unique<std::uint8_t[]>(n);
+  build_mapped_mask();
   accounting_ = true;
   if (!systematic) return;
   BoustrophedonConfig bc;
@@ -329,7 +333,7 @@ double CoverageMission::uniform() {
 }
 
 bool CoverageMission::bumped(const MissionContext& ctx, const Pose2& pose) const {
-  return ctx.obstacle_ahead() || lethal_near(pose, cfg_.vacuum.bump_m, true);
+  return ctx.obstacle_ahead() || lethal_near(pose, cfg_.vacuum.bump_m, true, true);
 }
 
 MissionOutput CoverageMission::vacuum(const MissionContext& ctx, const Pose2& pose) {
@@ -361,7 +365,7 @@ MissionOutput CoverageMission::vacuum(const MissionContext& ctx, const Pose2& po
       out.motion.twist.vx = v.forward_speed_mps;
       return out;
     case State::BackUp:
-      if (t >= v.backup_s || lethal_near(pose, v.bump_m, false)) {
+      if (t >= v.backup_s || lethal_near(pose, v.bump_m, false, true)) {
         turn_dir_ = uniform() < 0.5 ? 1.0 : -1.0;
         turn_s_ = v.turn_min_s + (v.turn_max_s - v.turn_min_s) * uniform();
         ++(turn_dir_ > 0.0 ? turns_left_ : turns_right_);
@@ -380,30 +384,6 @@ MissionOutput CoverageMission::vacuum(const MissionContext& ctx, const Pose2& po
     default:
       return out;
   }
-}
-
-// A lethal costmap cell whose centre lies within (inscribed radius + margin) of the robot's,
-// within 60 degrees of its heading (forward) or of its back (backward). The body is taken as its
-// inscribed circle and distances between cell centres, as the planner's area and the costmap's
-// inscribed cells take them: a robot on any cell the planner allows is clear by at least half a
-// cell's diagonal less than the margin.
-bool CoverageMission::lethal_near(const Pose2& pose, double margin, bool forward) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
-  if (!m.ready() || !std::isfinite(pose.x) || !std::isfinite(pose.y)) return false;
-  const double reach = std::min(footprint_.half_length_m, footprint_.half_width_m) + margin;
-  const int n = static_cast<int>(std::ceil(reach / m.resolution())) + 1;
-  const double hx = std::cos(pose.yaw) * (forward ? 1.0 : -1.0);
-  const double hy = std::sin(pose.yaw) * (forward ? 1.0 : -1.0);
-  const int cx0 = m.cell_of(pose.x), cy0 = m.cell_of(pose.y);
-  for (int cy = cy0 - n; cy <= cy0 + n; ++cy) {
-    for (int cx = cx0 - n; cx <= cx0 + n; ++cx) {
-      if (!m.contains(cx, cy) || m.at(cx, cy) != cost::kLethal) continue;
-      const double dx = m.center_of(cx) - pose.x, dy = m.center_of(cy) - pose.y;
-      const double d = std::hypot(dx, dy);
-      if (d <= reach && dx * hx + dy * hy >= 0.5 * d) return true;  // cos >= 0.5: +-60 deg
-    }
-  }
-  return false;
 }
 
 }  // namespace carril::fw

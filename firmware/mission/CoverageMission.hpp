@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "firmware/control/LaneFollower.hpp"
 #include "firmware/control/PathTracker.hpp"
 #include "firmware/control/PurePursuitFollower.hpp"
 #include "firmware/core/StaticVector.hpp"
@@ -95,7 +96,7 @@ struct CoverageConfig {
   std::uint32_t seed = 1;            // the vacuum's random turns
   VacuumConfig vacuum;
 
-  PurePursuitConfig sweep_pursuit;    // on the lanes (a short lookahead for the U-turns)
+  LaneFollowerConfig sweep;           // on the lanes and their U-turns
   PurePursuitConfig transit_pursuit;  // between cells
   PathTrackerConfig tracker;          // turning on the spot
   WavefrontConfig planner;
@@ -108,8 +109,12 @@ struct CoverageConfig {
   double backup_speed_mps = 0.1;         // [m/s]
   std::uint32_t max_recoveries = 5;      // stops in a row before the target is given up [stops]
   double turn_in_place_min_radps = 0.2;  // a lethal cell ahead while turning: turn in place
-  std::uint32_t max_cells = 256;         // decomposition cells the buffers hold [cells]
-  std::uint32_t max_lanes = 2048;        // lanes the buffers hold [lanes]
+  // A lethal costmap cell this close to a wall of the static map is that wall (the lidar's
+  // returns off a wall's face land in the free cell before it about half the time): the static
+  // area already keeps the robot clear of it. Farther ones are unmapped obstacles [m].
+  double mapped_wall_tolerance_m = 0.1;
+  std::uint32_t max_cells = 256;   // decomposition cells the buffers hold [cells]
+  std::uint32_t max_lanes = 2048;  // lanes the buffers hold [lanes]
 
   CoverageConfig();
   Status validate() const;
@@ -186,9 +191,14 @@ class CoverageMission final : public Mission {
   MissionOutput reverse(const Pose2& pose);
   MissionOutput emergency_stop(const Pose2& pose);
   bool cut_lane(const Pose2& pose, const PathProjection& at);
+  // obstacles the map does not show (CoverageObstacles.cpp)
+  void build_mapped_mask();
+  bool unmapped_lethal(int cx, int cy) const;
+  void overlay_unmapped();
   bool blocked_at(const Vec2& p) const;
   bool path_blocked_ahead(const Pose2& pose) const;
-  bool lethal_near(const Pose2& pose, double margin, bool forward) const;
+  // any_lethal: every lethal cell counts (the vacuum is blind to the map), else unmapped ones.
+  bool lethal_near(const Pose2& pose, double margin, bool forward, bool any_lethal) const;
   CellVisit tour_visit(std::size_t k) const;
   double swept_fraction(std::uint16_t cell) const;
   // vacuum (CoverageMission.cpp)
@@ -199,7 +209,8 @@ class CoverageMission final : public Mission {
   CoverageConfig cfg_;
   Footprint footprint_;
   PathTracker tracker_;
-  PurePursuitFollower sweep_follower_, transit_follower_;
+  LaneFollower sweep_follower_;
+  PurePursuitFollower transit_follower_;
   const Topic<OdometryMsg>& pose_;
   const CostmapView& costmap_;
   const OccupancyGrid& map_;
@@ -212,6 +223,7 @@ class CoverageMission final : public Mission {
   std::unique_ptr<std::uint8_t[]> base_costs_;  // the static area: 0 on centre cells, else lethal
   std::unique_ptr<std::uint8_t[]> plan_costs_;  // base_costs_ overlaid with the costmap
   std::unique_ptr<std::uint8_t[]> abandoned_;   // revisit targets already tried
+  std::unique_ptr<std::uint8_t[]> mapped_;      // within mapped_wall_tolerance_m of a wall
 
   State state_ = State::Wait;
   const char* phase_ = "wait";

@@ -28,34 +28,16 @@ MissionOutput CoverageMission::start_plan(Purpose p, const Pose2& pose) {
   return plan_step(pose);
 }
 
-// One PLAN tick. The first lays the static area over the live costmap (the initial plan: the
-// static area alone, so a passing obstacle does not shrink the area for good) and seeds a
-// wavefront at the robot; the next ones expand it within the budget; the last picks the target
-// from its distances and extracts the path.
+// One PLAN tick. The first lays the obstacles the map does not show over the static area (the
+// initial plan: the static area alone, so a passing obstacle does not shrink the area for good)
+// and seeds a wavefront at the robot; the next ones expand it within the budget; the last picks
+// the target from its distances and extracts the path.
 MissionOutput CoverageMission::plan_step(const Pose2& pose) {
   const int nx = map_.nx(), ny = map_.ny();
   if (!planning_) {
-    const RollingGrid<std::uint8_t>& m = costmap_.master();
-    const bool live = purpose_ != Purpose::Initial && m.ready();
-    for (int j = 0; j < ny; ++j) {
-      for (int i = 0; i < nx; ++i) {
-        const std::size_t k = cell_index(i, j);
-        std::uint8_t c = base_costs_[k];
-        if (live && c != cost::kLethal) {
-          const Vec2 w = map_.centre(i, j);
-          int cx = 0, cy = 0;
-          if (m.world_to_cell(w.x(), w.y(), cx, cy)) {
-            const std::uint8_t mc = m.at(cx, cy);
-            if (mc == cost::kLethal || mc == cost::kInscribed) {
-              c = cost::kLethal;
-            } else if (cost::passable(mc)) {
-              c = std::max(c, mc);
-            }
-          }
-        }
-        plan_costs_[k] = c;
-      }
-    }
+    const std::size_t n = area_.size();
+    for (std::size_t k = 0; k < n; ++k) plan_costs_[k] = base_costs_[k];
+    if (purpose_ != Purpose::Initial) overlay_unmapped();
     // The robot's cell, or (standing in inflation) the nearest passable one within 0.3 m.
     int ri = 0, rj = 0;
     map_.cell_of(pose.x, pose.y, ri, rj);
@@ -179,9 +161,20 @@ bool CoverageMission::pick_resume(const Pose2& pose) {
   const Vec2 q = route_[sweep_from_];
   int i = 0, j = 0;
   map_.cell_of(q.x(), q.y(), i, j);
-  if (!planner_.reachable(i, j)) return false;
+  // The lane's clear point is judged on the costmap's cells, the plan on the map's: it may fall
+  // just inside an obstacle's widened disk. The nearest reachable cell within two cells does.
+  int bi = -1, bj = -1, best = 9;
+  for (int dj = -2; dj <= 2; ++dj) {
+    for (int di = -2; di <= 2; ++di) {
+      if (di * di + dj * dj >= best || !planner_.reachable(i + di, j + dj)) continue;
+      best = di * di + dj * dj;
+      bi = i + di;
+      bj = j + dj;
+    }
+  }
+  if (bi < 0) return false;
   after_transit_ = State::Sweep;
-  return path_to(i, j, q);
+  return path_to(bi, bj, bi == i && bj == j ? q : map_.centre(bi, bj));
 }
 
 // The unswept cell whose anchor is nearest by the planner (each tried once). The target counts
@@ -295,36 +288,6 @@ void CoverageMission::finish_cell() {
   ++tour_pos_;
 }
 
-// A lethal or inscribed costmap cell at p: the body standing there would touch something.
-bool CoverageMission::blocked_at(const Vec2& p) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
-  int cx = 0, cy = 0;
-  if (!m.ready() || !m.world_to_cell(p.x(), p.y(), cx, cy)) return false;
-  const std::uint8_t c = m.at(cx, cy);
-  return c == cost::kLethal || c == cost::kInscribed;
-}
-
-bool CoverageMission::path_blocked_ahead(const Pose2& pose) const {
-  const double step = 0.5 * map_.resolution();
-  double left = cfg_.replan_lookahead_m;
-  Vec2 a(pose.x, pose.y);
-  for (std::size_t i = transit_follower_.progress() + 1; i < waypoints_.size() && left > 0.0; ++i) {
-    const Vec2 b = waypoints_[i];
-    const double len = (b - a).norm();
-    const int n = std::max(1, int(std::ceil(len / step)));
-    for (int k = 1; k <= n; ++k) {
-      const Vec2 p = a + (b - a) * (double(k) / n);
-      // The robot's own inflated cell does not count (it may stand in inflation).
-      if (blocked_at(p) && (p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) {
-        return true;
-      }
-    }
-    left -= len;
-    a = b;
-  }
-  return false;
-}
-
 MissionOutput CoverageMission::transit(const Pose2& pose) {
   if (costmap_.updates() != seen_updates_) {
     seen_updates_ = costmap_.updates();
@@ -335,7 +298,7 @@ MissionOutput CoverageMission::transit(const Pose2& pose) {
   }
   MissionOutput out;
   out.motion.twist = transit_follower_.update(pose, waypoints_.begin(), waypoints_.size());
-  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true)) {
+  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true, false)) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
       return out;
@@ -366,7 +329,7 @@ MissionOutput CoverageMission::emergency_stop(const Pose2& pose) {
 
 MissionOutput CoverageMission::reverse(const Pose2& pose) {
   const bool far_enough = (Vec2(pose.x, pose.y) - backup_from_).norm() >= cfg_.backup_m;
-  if (far_enough || lethal_near(pose, cfg_.emergency_stop_m, false)) {
+  if (far_enough || lethal_near(pose, cfg_.emergency_stop_m, false, false)) {
     ++replans_;
     return next_plan(purpose_);
   }
@@ -392,7 +355,7 @@ MissionOutput CoverageMission::sweep(const Pose2& pose) {
     }
   }
   out.motion.twist = sweep_follower_.update(pose, path, n);
-  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true)) {
+  if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true, false)) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
       return out;

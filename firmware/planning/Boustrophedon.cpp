@@ -130,7 +130,7 @@ Status Boustrophedon::decompose(const std::uint8_t* mask, int nx, int ny, double
               max_cells_);
         }
         in.cell = std::uint16_t(cells_n_);
-        cells_[cells_n_++] = CoverCell{x, x, 0, 0, 0};
+        cells_[cells_n_++] = CoverCell{x, x, 0, 0, 0, false};
       }
       cells_[in.cell].area += std::uint32_t(in.y1 - in.y0 + 1);
       for (int y = in.y0; y <= in.y1; ++y) label_[index(x, y)] = in.cell;
@@ -184,6 +184,11 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
     l.y0_m = oy_ + (l.y0 + 0.5) * res_;
     l.y1_m = oy_ + (l.y1 + 0.5) * res_;
     l.cell = std::uint16_t(k);
+  }
+  c.single_pass = n > 1;
+  for (std::size_t m = 0; m < n; ++m) {
+    const CoverLane& l = lanes_[lanes_n_ + m];
+    if (l.y1_m - l.y0_m >= cfg_.lane_spacing_m) c.single_pass = false;
   }
   for (std::size_t m = 0; m < n; ++m) {
     CoverLane& l = lanes_[lanes_n_ + m];
@@ -256,11 +261,16 @@ const CoverLane& Boustrophedon::lane_of(const CellVisit& v, std::size_t m) const
 
 Vec2 Boustrophedon::entry_point(const CellVisit& v) const {
   const CoverLane& l = lane_of(v, 0);
+  if (cells_[v.cell].single_pass) return {l.x, 0.5 * (l.y0_m + l.y1_m)};
   return {l.x, (v.entry & 1) != 0 ? l.y1_m : l.y0_m};
 }
 
 Vec2 Boustrophedon::exit_point(const CellVisit& v) const {
   const std::size_t n = cells_[v.cell].lanes;
+  if (cells_[v.cell].single_pass) {
+    const CoverLane& l = lane_of(v, n - 1);
+    return {l.x, 0.5 * (l.y0_m + l.y1_m)};
+  }
   const bool up_first = (v.entry & 1) == 0;
   const bool up_last = (n % 2 == 1) ? up_first : !up_first;
   const CoverLane& l = lane_of(v, n - 1);
@@ -397,6 +407,20 @@ bool Boustrophedon::route_impl(const CellVisit& v, void* out, PushFn push) const
   const std::size_t n = cells_[v.cell].lanes;
   bool up = (v.entry & 1) == 0;
   if (!push(out, entry_point(v))) return false;
+  if (cells_[v.cell].single_pass) {
+    // Through the middle of every column (the strip may bend), from the first lane to the last.
+    const CoverCell& c = cells_[v.cell];
+    const bool forward = lane_of(v, 0).column == c.x0;
+    for (int k = 1; k <= c.x1 - c.x0; ++k) {
+      const int col = forward ? c.x0 + k : c.x1 - k;
+      int y0 = 0, y1 = 0;
+      interval_of(v.cell, col, y0, y1);
+      if (!push(out, Vec2(ox_ + (col + 0.5) * res_, oy_ + (0.5 * (y0 + y1) + 0.5) * res_))) {
+        return false;
+      }
+    }
+    return true;
+  }
   const double radius = cfg_.turn_radius_m > 0.0 ? cfg_.turn_radius_m : 0.5 * cfg_.lane_spacing_m;
   for (std::size_t m = 0; m < n; ++m) {
     const CoverLane& a = lane_of(v, m);

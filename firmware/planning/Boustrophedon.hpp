@@ -7,9 +7,11 @@
 // wall the lanes run against): lanes joined at such a jump would leave the step unswept.
 //
 // Each cell is covered by vertical lanes (along the sweep line) spaced at most lane_spacing_m
-// apart, the outer ones on its first and last columns. Neighbouring lanes are joined at their
-// ends by a U-turn: two quarter arcs of turn_radius_m and the straight between (a half circle
-// when the radius is half the spacing), kept inside the cell's columns between the two lanes.
+// apart, the outer ones on its first and last columns; a cell whose lanes are all shorter than
+// the spacing is one pass through their midpoints instead (CoverCell::single_pass). Neighbouring
+// lanes are joined at their ends by a U-turn: two quarter arcs of turn_radius_m and the straight
+// between (a half circle when the radius is half the spacing), kept inside the cell's columns
+// between the two lanes.
 //
 // A visit of a cell enters at one of its four corners (first or last lane, bottom or top); the
 // tour orders the visits to keep the transitions short: greedy nearest from the start, then 2-opt
@@ -46,6 +48,10 @@ struct CoverCell {
   std::uint32_t first_lane = 0;  // index of its first lane
   std::uint32_t lanes = 0;       // lane count
   std::uint32_t area = 0;        // free cells [cells]
+  // Every lane shorter than the lane spacing: the cell is a strip across the sweep line, driven
+  // in one pass through its lanes' midpoints (U-turns tighter than the lanes are long would
+  // overshoot them).
+  bool single_pass = false;
 };
 
 // A lane: a vertical segment through the centres of a column's interval.

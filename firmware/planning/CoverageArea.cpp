@@ -60,8 +60,14 @@ Status CoverageArea::build(const OccupancyGrid& map, const CoverageAreaConfig& c
   // Centre cells: free, and no occupied, unknown or outside cell within the radius (distances
   // between cell centres, as the costmap's inflation measures them: inscribed where d <= r).
   const double rc = cfg.robot_radius_m / res;
-  const int r = int(std::floor(rc + 1e-9));
+  const int r = int(std::floor(rc + (cfg.box_distance ? 0.5 : 0.0) + 1e-9));
   const int r2 = int(std::floor(rc * rc + 1e-9));
+  // Within the radius of occupied cell (0, 0): by centres, or by its square's nearest point.
+  const auto within = [&](int di, int dj) {
+    if (!cfg.box_distance) return di * di + dj * dj <= r2;
+    const double ex = std::max(std::abs(di) - 0.5, 0.0), ey = std::max(std::abs(dj) - 0.5, 0.0);
+    return ex * ex + ey * ey <= rc * rc + 1e-9;
+  };
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       const int edge = std::min(std::min(i + 1, nx - i), std::min(j + 1, ny - j));
@@ -78,7 +84,7 @@ Status CoverageArea::build(const OccupancyGrid& map, const CoverageAreaConfig& c
       if (!boundary) continue;
       for (int dj = -r; dj <= r; ++dj) {
         for (int di = -r; di <= r; ++di) {
-          if (di * di + dj * dj <= r2 && map.contains(i + di, j + dj)) {
+          if (within(di, dj) && map.contains(i + di, j + dj)) {
             centre_[idx(i + di, j + dj)] = 0;
           }
         }

@@ -22,9 +22,13 @@
 namespace carril::fw {
 
 struct CoverageAreaConfig {
-  double robot_radius_m = 0.25;   // the centre keeps farther than this from obstacles [m]
-  double tool_width_m = 0.5;      // the tool's width across the heading [m]
-  double reach_margin_m = -1.0;   // reach = tool_width / 2 - this; < 0: half a cell [m]
+  double robot_radius_m = 0.25;  // the centre keeps farther than this from obstacles [m]
+  double tool_width_m = 0.5;     // the tool's width across the heading [m]
+  double reach_margin_m = -1.0;  // reach = tool_width / 2 - this; < 0: half a cell [m]
+  // Centre cells keep robot_radius from the nearest point of each occupied cell's square, not
+  // from its centre: a door jamb's corner is then as far as a wall's face (the mission's own
+  // area; the simulator scores against centre distances).
+  bool box_distance = false;
   const Vec2* polygon = nullptr;  // the area's corners, map frame [m]; nullptr: the whole map
   std::size_t polygon_size = 0;   // corners (3 or more when a polygon is given)
 };

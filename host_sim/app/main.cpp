@@ -108,7 +108,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& o) {
                  "output directory (default runs/<scenario name>/, or "
                  "runs/<scenario name>_<preset>_<strategy>/ with --preset or --strategy)");
   cli.add_option("--preset", o.overrides.preset,
-                 "robot preset instead of the scenario's (campero, pioneer3at)");
+                 "robot preset instead of the scenario's (campero, create3, pioneer3at)");
   cli.add_option("--camera-noise", o.overrides.camera_noise,
                  "camera pixel noise std instead of the scenario's (robot.camera.noise_std)");
   cli.add_option("--strategy", o.overrides.strategy,

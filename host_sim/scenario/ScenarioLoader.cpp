@@ -86,7 +86,7 @@ std::vector<Vec2> parse_points(const Node& n, std::size_t& budget, const std::st
 void parse_robot(const Node& m, const std::string& robots_dir, RobotSpec& robot) {
   m.expect_map({"preset", "start", "camera", "lidar", "limits", "terrain_limits"});
   const Node preset = m.at("preset");
-  const std::string name = preset.one_of({"campero", "pioneer3at"});
+  const std::string name = preset.one_of({"campero", "create3", "pioneer3at"});
   const std::string file = robots_dir + "/" + name + ".yaml";
   try {
     robot = loader::read_robot_file(file);

@@ -63,11 +63,14 @@ SimWorld::SimWorld(const Scenario& scenario)
   bd.angle = float(r.start.yaw_rad);
   bd.bullet = true;  // no tunnelling through thin walls
   robot_ = world_->CreateBody(&bd);
-  b2PolygonShape shape;
-  shape.SetAsBox(float(r.length_m / 2), float(r.width_m / 2));
+  b2PolygonShape box;
+  box.SetAsBox(float(r.length_m / 2), float(r.width_m / 2));
+  b2CircleShape disc;
+  disc.m_radius = float(r.width_m / 2);
   b2FixtureDef fd;
-  fd.shape = &shape;
-  fd.density = float(r.mass_kg / (r.length_m * r.width_m));
+  fd.shape = r.round_body ? static_cast<const b2Shape*>(&disc) : &box;
+  const double area = r.round_body ? M_PI * disc.m_radius * disc.m_radius : r.length_m * r.width_m;
+  fd.density = float(r.mass_kg / area);
   fd.friction = 0.3F;
   robot_->CreateFixture(&fd);
   height_ = std::make_unique<HeightField>(scenario);

@@ -142,6 +142,25 @@ TEST(FirmwareConfigBuilder, EveryValueThePresetAcceptsTheFirmwareAcceptsToo) {
   EXPECT_TRUE(b.ok) << b.error;
 }
 
+// A coverage mission's followers drive at the mission's speed (the score's lower bound is taken
+// at it) and turn no faster than the robot; its wall clearance is passed on.
+TEST(FirmwareConfigBuilder, CoverageFollowersDriveTheMissionsSpeed) {
+  MissionSpec m = mission("marks", 0.3);
+  m.type = "coverage";
+  m.wall_clearance_m = 0.05;
+  RobotSpec r = robot("pioneer3at");
+  r.limits.max_yaw_rate_radps = 1.2;
+  const BuildResult b = build_firmware_config(r, m);
+  ASSERT_TRUE(b.ok) << b.error;
+  const fw::CoverageConfig& k = b.config.coverage;
+  EXPECT_EQ(k.speed_mps, 0.3);
+  EXPECT_EQ(k.sweep.cruise_speed_mps, 0.3);
+  EXPECT_EQ(k.transit_pursuit.cruise_speed_mps, 0.3);
+  EXPECT_EQ(k.sweep.max_yaw_rate_radps, 1.2);
+  EXPECT_LE(k.transit_pursuit.max_yaw_rate_radps, 1.2);
+  EXPECT_EQ(k.wall_clearance_m, 0.05);
+}
+
 TEST(FirmwareConfigBuilder, UnknownStrategyIsRejected) {
   MissionSpec m = mission("zigzag", 0.5);
   m.source_path = "m.yaml";

@@ -35,7 +35,7 @@ Loaded load(const std::string& text) {
 }
 
 TEST(RobotLoader, ShippedRobotsLoadWithEverySensorFitted) {
-  for (const char* name : {"campero", "pioneer3at"}) {
+  for (const char* name : {"campero", "create3", "pioneer3at"}) {
     RobotSpec r;
     std::string error;
     const std::string path = source_path(std::string("config/robots/") + name + ".yaml");
@@ -45,6 +45,26 @@ TEST(RobotLoader, ShippedRobotsLoadWithEverySensorFitted) {
     EXPECT_TRUE(r.lidar.present);
     EXPECT_TRUE(r.imu.present);
   }
+}
+
+TEST(RobotLoader, ARoundBodyIsItsDiameterBothWays) {
+  std::string error;
+  RobotSpec r;
+  ASSERT_TRUE(load_robot_preset(source_path("config/robots/create3.yaml"), r, error)) << error;
+  EXPECT_TRUE(r.round_body);
+  EXPECT_EQ(r.length_m, r.width_m);
+  const Loaded box = load(kCampero);
+  ASSERT_TRUE(box.ok) << box.error;
+  EXPECT_FALSE(box.robot.round_body);
+  const Loaded round = load(edit(kCampero, "mass_kg: 110.0}", "mass_kg: 110.0, shape: round}"));
+  EXPECT_FALSE(round.ok);
+  EXPECT_NE(round.error.find("body.shape: a round body needs length_m equal to width_m"),
+            std::string::npos)
+      << round.error;
+  const Loaded bad = load(edit(kCampero, "mass_kg: 110.0}", "mass_kg: 110.0, shape: oval}"));
+  EXPECT_FALSE(bad.ok);
+  EXPECT_NE(bad.error.find("body.shape: expected one of box, round"), std::string::npos)
+      << bad.error;
 }
 
 TEST(RobotLoader, ImuAndLidarCanBeNotFitted) {
@@ -89,8 +109,9 @@ TEST(RobotLoader, TerrainLimitsAreRequiredAndChecked) {
   EXPECT_EQ(p3.terrain_limits.max_step_down_m, 0.15);
   const RobotSpec campero = test::robot("campero");
   EXPECT_EQ(campero.terrain_limits.max_slope_deg, 10.0);
-  const std::string line = "terrain_limits: {max_slope_deg: 10.0, max_step_up_m: 0.03, "
-                           "max_step_down_m: 0.08}";
+  const std::string line =
+      "terrain_limits: {max_slope_deg: 10.0, max_step_up_m: 0.03, "
+      "max_step_down_m: 0.08}";
   const Loaded missing = load(edit(kCampero, line, ""));
   EXPECT_NE(missing.error.find("terrain_limits: missing required key"), std::string::npos)
       << missing.error;

@@ -237,6 +237,31 @@ TEST(BoustrophedonTest, RoutesStartAndEndAtTheVisitsCornersAndReverse) {
   }
 }
 
+// A strip shorter than the lane spacing across the sweep line: one pass along its middle, not a
+// zigzag of U-turns tighter than its lanes are long; a room with long lanes keeps its U-turns.
+TEST(BoustrophedonTest, AStripShorterThanTheSpacingIsOnePassThroughItsMiddle) {
+  Boustrophedon b;
+  ASSERT_TRUE(b.init(100, 100, 64, 256).is_ok());
+  Mask m(41, 6);  // 2.05 x 0.3 m, lanes 0.25 m long (spacing 0.45 m)
+  ASSERT_TRUE(decompose(b, m).is_ok());
+  ASSERT_EQ(b.cell_count(), 1u);
+  EXPECT_TRUE(b.cell(0).single_pass);
+  StaticVector<Vec2, 1024> r;
+  for (std::uint8_t e = 0; e < 4; ++e) {
+    const CellVisit v{0, e};
+    ASSERT_TRUE(b.route(v, r));
+    EXPECT_EQ(r.size(), 41u);  // a point per column
+    for (const Vec2& p : r) EXPECT_NEAR(p.y(), 0.15, 1e-9);
+    EXPECT_LT((r[0] - b.entry_point(v)).norm(), 1e-9);
+    EXPECT_LT((r.back() - b.exit_point(v)).norm(), 1e-9);
+    EXPECT_LT((b.exit_point(b.reversed(v)) - b.entry_point(v)).norm(), 1e-9);
+  }
+  EXPECT_EQ(route_coverage(b, m, CellVisit{0, 0}, 0.34), 1.0);
+  Mask tall(41, 12);  // lanes 0.55 m long: a boustrophedon
+  ASSERT_TRUE(decompose(b, tall).is_ok());
+  EXPECT_FALSE(b.cell(0).single_pass);
+}
+
 TEST(BoustrophedonTest, RandomRoutesStayInTheirCellsAndSweepNearlyAllOfThem) {
   Boustrophedon b;
   ASSERT_TRUE(b.init(100, 100, 1024, 4096).is_ok());
@@ -419,6 +444,35 @@ TEST(CoverageAreaTest, ComponentsAndPolygonsLimitTheArea) {
   for (int y = 0; y < 30; ++y)
     for (int x = 15; x < 60; ++x) EXPECT_EQ(area.coverable()[y * 60 + x], 0) << x << "," << y;
   EXPECT_GT(area.coverable_cells(), 0u);
+}
+
+// Measured to an occupied cell's square, a corner (a door jamb) is as far as a wall's face:
+// cells beside it that are clear by centres are not by the square.
+TEST(CoverageAreaTest, BoxDistanceKeepsTheRadiusFromACornerAsFromAFace) {
+  std::vector<std::uint8_t> cells;
+  OccupancyGrid map = room_map(40, 30, cells);
+  cells[std::size_t(15 * 40 + 20)] = cost::kLethal;  // a post at (20, 15)
+  MapInfo info;
+  info.nx = 40;
+  info.ny = 30;
+  ASSERT_TRUE(map.assign(info, cells.data()).is_ok());
+  CoverageArea area(40 * 30);
+  CoverageAreaConfig cfg;
+  cfg.robot_radius_m = 0.1;  // 2 cells
+  ASSERT_TRUE(area.build(map, cfg).is_ok());
+  const auto centre = [&](int x, int y) { return area.centre()[std::size_t(y * 40 + x)] != 0; };
+  EXPECT_FALSE(centre(22, 15));  // 2 cells: within by both
+  EXPECT_TRUE(centre(22, 16));   // centres 2.24 cells apart
+  EXPECT_TRUE(centre(22, 17));
+  cfg.box_distance = true;
+  ASSERT_TRUE(area.build(map, cfg).is_ok());
+  EXPECT_FALSE(centre(22, 15));
+  EXPECT_FALSE(centre(22, 16));  // 1.58 cells from the post's square
+  EXPECT_TRUE(centre(22, 17));   // 2.12 cells from its corner
+  EXPECT_TRUE(centre(23, 15));   // 2.5 cells from its face
+  // A wall's face: the same centre cells either way (the wall's last cell is column 1).
+  EXPECT_FALSE(centre(3, 10));
+  EXPECT_TRUE(centre(4, 10));
 }
 
 TEST(CoverageAreaTest, AMapWithNoRoomForTheRobotIsAClearError) {

@@ -157,8 +157,9 @@ TEST(ScenarioErrors, LinePriorityNeedsMecanum) {
 }
 
 TEST(ScenarioErrors, UnknownPreset) {
-  EXPECT_TRUE(fails_with(edit(kFullYaml, "preset: campero", "preset: roomba"),
-                         {"robot.preset: expected one of campero, pioneer3at, got \"roomba\""}));
+  EXPECT_TRUE(
+      fails_with(edit(kFullYaml, "preset: campero", "preset: roomba"),
+                 {"robot.preset: expected one of campero, create3, pioneer3at, got \"roomba\""}));
 }
 
 TEST(ScenarioErrors, BrokenPresetFileIsNamed) {
