@@ -18,6 +18,7 @@ Status BoustrophedonConfig::validate() const {
       .range("arc_step_rad", arc_step_rad, 0.02, 1.6, "rad")
       .range("max_boundary_step", max_boundary_step, 0.0, 10000.0, "cells")
       .range("max_order_passes", max_order_passes, 0.0, 10000.0, "passes")
+      .range("open_border_fraction", open_border_fraction, 0.0, 1.0, "")
       .result();
 }
 
@@ -160,16 +161,80 @@ void Boustrophedon::interval_of(std::size_t cell, int column, int& y0, int& y1) 
   }
 }
 
+// The fraction of the rows of `cell`'s interval in `column` whose cell in column `beyond` is
+// blocked (or off the grid): how much of that border is a wall rather than another cell.
+double Boustrophedon::wall_fraction(std::size_t cell, int column, int beyond) const {
+  int y0 = 0, y1 = 0;
+  interval_of(cell, column, y0, y1);
+  if (y1 < y0) return 1.0;
+  int blocked = 0;
+  for (int y = y0; y <= y1; ++y) {
+    if (beyond < 0 || beyond >= nx_ || label_[index(beyond, y)] == kNoCell) ++blocked;
+  }
+  return double(blocked) / double(y1 - y0 + 1);
+}
+
 Status Boustrophedon::lay_lanes(std::size_t k) {
   CoverCell& c = cells_[k];
   const int span = c.x1 - c.x0;                       // [columns]
   const double spacing = cfg_.lane_spacing_m / res_;  // [columns]
-  std::size_t n = 1;
-  if (span * res_ >= 0.5 * cfg_.lane_spacing_m) {
-    n = std::size_t(std::ceil(span / spacing - 1e-9)) + 1;
-    n = std::min(n, std::size_t(span) + 1);
+  std::size_t n = 0;
+  const auto add = [&](int column) {
+    if (lanes_n_ + n >= max_lanes_) return false;
+    lanes_[lanes_n_ + n++].column = column;
+    return true;
+  };
+  bool fits = true;
+  if (span * res_ < 0.5 * cfg_.lane_spacing_m) {
+    fits = add((c.x0 + c.x1) / 2);
+  } else if (!cfg_.lane_grid) {
+    // Evenly spread, the outer ones on the first and last columns.
+    const std::size_t m = std::min(std::size_t(std::ceil(span / spacing - 1e-9)) + 1,
+                                   std::size_t(span) + 1);
+    for (std::size_t i = 0; i < m && fits; ++i) {
+      fits = add(c.x0 + int(std::lround(double(i) * span / double(m - 1))));
+    }
+  } else {
+    // On the map's one grid of columns (multiples of the spacing), so neighbouring cells keep
+    // the spacing across an open border instead of each laying a lane on its own side of it;
+    // a border that faces a wall gets its own lane (the tool must reach the wall). A grid lane
+    // closer than half the spacing to a wall's lane moves halfway to the lane after it: the
+    // U-turn between two lanes is as tight as they are close.
+    const int half = int(std::ceil(0.5 * spacing));
+    const bool wall0 = wall_fraction(k, c.x0, c.x0 - 1) > cfg_.open_border_fraction;
+    const bool wall1 = wall_fraction(k, c.x1, c.x1 + 1) > cfg_.open_border_fraction;
+    const auto grid = [&](long g) { return int(std::lround(double(g) * spacing)); };
+    int last = -1;
+    if (wall0) {
+      fits = add(c.x0);
+      last = c.x0;
+    }
+    for (long g = long(std::ceil(c.x0 / spacing - 1e-9)); fits; ++g) {
+      int col = grid(g);
+      if (col > c.x1) break;
+      if (col <= last) continue;
+      if (last >= 0 && col - last < half) {
+        const int next = std::min(grid(g + 1), c.x1);
+        if (next - last < 2 * half) continue;  // the next one is near enough
+        col = (last + next) / 2;
+      }
+      fits = add(col);
+      last = col;
+    }
+    if (fits && wall1 && last != c.x1) {
+      if (n >= 1 && c.x1 - last < half) {
+        const int before = n >= 2 ? lanes_[lanes_n_ + n - 2].column : c.x0;
+        if (c.x1 - before < 2 * half) {
+          --n;  // the one before is near enough
+        } else {
+          lanes_[lanes_n_ + n - 1].column = (before + c.x1) / 2;
+        }
+      }
+      fits = add(c.x1);
+    }
+    if (fits && n == 0) fits = add((c.x0 + c.x1) / 2);  // open on both sides, narrower than a lane
   }
-  if (lanes_n_ + n > max_lanes_) {
+  if (!fits) {
     return Status::error("coverage: the area needs more than %zu lanes (raise coverage.max_lanes)",
                          max_lanes_);
   }
@@ -177,8 +242,6 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
   c.lanes = std::uint32_t(n);
   for (std::size_t m = 0; m < n; ++m) {
     CoverLane& l = lanes_[lanes_n_ + m];
-    l.column =
-        n == 1 ? (c.x0 + c.x1) / 2 : c.x0 + int(std::lround(double(m) * span / double(n - 1)));
     interval_of(k, l.column, l.y0, l.y1);
     l.x = ox_ + (l.column + 0.5) * res_;
     l.y0_m = oy_ + (l.y0 + 0.5) * res_;
@@ -189,6 +252,19 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
   for (std::size_t m = 0; m < n; ++m) {
     const CoverLane& l = lanes_[lanes_n_ + m];
     if (l.y1_m - l.y0_m >= cfg_.lane_spacing_m) c.single_pass = false;
+  }
+  if (c.single_pass) {
+    // One pass from the first column to the last: the visit's ends are those columns.
+    n = 2;
+    c.lanes = 2;
+    for (std::size_t m = 0; m < 2; ++m) {
+      CoverLane& l = lanes_[lanes_n_ + m];
+      l.column = m == 0 ? c.x0 : c.x1;
+      interval_of(k, l.column, l.y0, l.y1);
+      l.x = ox_ + (l.column + 0.5) * res_;
+      l.y0_m = oy_ + (l.y0 + 0.5) * res_;
+      l.y1_m = oy_ + (l.y1 + 0.5) * res_;
+    }
   }
   for (std::size_t m = 0; m < n; ++m) {
     CoverLane& l = lanes_[lanes_n_ + m];

@@ -38,6 +38,11 @@ struct BoustrophedonConfig {
   double arc_step_rad = 0.3;            // arcs as polylines, a point every this angle [rad]
   int max_boundary_step = 2;            // a larger jump of a cell's top or bottom ends it [cells]
   std::uint32_t max_order_passes = 50;  // improvement passes of the tour [passes]
+  // Lanes on one grid of columns across the map (multiples of the spacing), a cell's border
+  // getting a lane of its own only where more than open_border_fraction of it faces blocked
+  // cells; false: each cell's lanes spread evenly from its first column to its last.
+  bool lane_grid = true;
+  double open_border_fraction = 0.0;  // [-]
 
   Status validate() const;
 };
@@ -129,6 +134,7 @@ class Boustrophedon {
   bool push_arc(void* out, PushFn push, const Vec2& c, double r, double a0, double a1, double vy,
                 bool skip_first) const;
   Status lay_lanes(std::size_t k);
+  double wall_fraction(std::size_t cell, int column, int beyond) const;
   void interval_of(std::size_t cell, int column, int& y0, int& y1) const;
   void measure_gaps();
   std::size_t index(int x, int y) const {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -92,11 +93,34 @@ Mask random_mask(std::uint32_t seed, int nx = 60, int ny = 50) {
   return m;
 }
 
-// Sweeps a route's polyline with a tool of the given width (the robot turning on the spot at
-// each waypoint) and returns the fraction of cell k's cells it passed over.
-double route_coverage(const Boustrophedon& b, const Mask& m, const CellVisit& v, double tool) {
+// Sweeps the routes of `visits` with a tool of the given width (the robot turning on the spot
+// at each waypoint) over `grid`, whose mask says which cells count.
+void sweep_routes(const Boustrophedon& b, const std::vector<CellVisit>& visits, double tool,
+                  CoverageGrid& g) {
   StaticVector<Vec2, 4096> route;
-  EXPECT_TRUE(b.route(v, route));
+  for (const CellVisit& v : visits) {
+    EXPECT_TRUE(b.route(v, route));
+    Pose2 at{route[0].x(), route[0].y(), 0.0};
+    for (std::size_t i = 1; i < route.size(); ++i) {
+      const Vec2 d = route[i] - route[i - 1];
+      const double len = d.norm();
+      if (len < 1e-9) continue;
+      const double yaw = std::atan2(d.y(), d.x());
+      const int steps = int(std::ceil(len / (0.5 * kRes)));
+      for (int s = 1; s <= steps; ++s) {
+        const Vec2 p = route[i - 1] + d * (double(s) / steps);
+        const Pose2 next{p.x(), p.y(), yaw};
+        g.sweep(at, next, tool);
+        at = next;
+      }
+    }
+  }
+}
+
+// The fraction of the cells of `cell` (kNoCell: of every free cell) that the routes of
+// `visits` pass over with a tool of the given width.
+double swept_fraction(const Boustrophedon& b, const Mask& m, const std::vector<CellVisit>& visits,
+                      std::uint16_t cell, double tool) {
   CoverageGrid g;
   MapInfo info;
   info.nx = m.nx;
@@ -104,24 +128,28 @@ double route_coverage(const Boustrophedon& b, const Mask& m, const CellVisit& v,
   info.resolution_m = kRes;
   EXPECT_TRUE(g.init(info).is_ok());
   std::vector<std::uint8_t> mask(m.m.size(), 0);
-  for (int y = 0; y < m.ny; ++y)
-    for (int x = 0; x < m.nx; ++x) mask[std::size_t(y * m.nx + x)] = b.label(x, y) == v.cell;
-  g.set_mask(mask.data());
-  Pose2 at{route[0].x(), route[0].y(), 0.0};
-  for (std::size_t i = 1; i < route.size(); ++i) {
-    const Vec2 d = route[i] - route[i - 1];
-    const double len = d.norm();
-    if (len < 1e-9) continue;
-    const double yaw = std::atan2(d.y(), d.x());
-    const int steps = int(std::ceil(len / (0.5 * kRes)));
-    for (int s = 1; s <= steps; ++s) {
-      const Vec2 p = route[i - 1] + d * (double(s) / steps);
-      const Pose2 next{p.x(), p.y(), yaw};
-      g.sweep(at, next, tool);
-      at = next;
+  for (int y = 0; y < m.ny; ++y) {
+    for (int x = 0; x < m.nx; ++x) {
+      const std::uint16_t l = b.label(x, y);
+      mask[std::size_t(y * m.nx + x)] =
+          cell == Boustrophedon::kNoCell ? l != Boustrophedon::kNoCell : l == cell;
     }
   }
+  g.set_mask(mask.data());
+  sweep_routes(b, visits, tool, g);
   return g.covered_fraction();
+}
+
+// The fraction of cell v.cell's cells that its own route passes over.
+double route_coverage(const Boustrophedon& b, const Mask& m, const CellVisit& v, double tool) {
+  return swept_fraction(b, m, {v}, v.cell, tool);
+}
+
+// The fraction of all free cells that the routes of every cell pass over.
+double all_routes_coverage(const Boustrophedon& b, const Mask& m, double tool) {
+  std::vector<CellVisit> all;
+  for (std::size_t k = 0; k < b.cell_count(); ++k) all.push_back(CellVisit{std::uint16_t(k), 0});
+  return swept_fraction(b, m, all, Boustrophedon::kNoCell, tool);
 }
 
 TEST(BoustrophedonTest, AnOpenRoomIsOneCellWithEvenlySpacedLanes) {
@@ -192,6 +220,8 @@ TEST(BoustrophedonTest, RandomMasksArePartitionedExactly) {
   }
 }
 
+// Lanes spread in each cell: every route alone sweeps its cell. Lanes on the map's grid: an
+// open border is swept from the cell beyond it, so every cell is swept by the routes together.
 TEST(BoustrophedonTest, EveryRouteSweepsItsCellWithTheToolWidth) {
   Boustrophedon b;
   ASSERT_TRUE(b.init(100, 100, 64, 256).is_ok());
@@ -201,7 +231,9 @@ TEST(BoustrophedonTest, EveryRouteSweepsItsCellWithTheToolWidth) {
   m.fill(35, 15, 37, 22, 1);
   // U-turns of half the lane spacing, and tighter ones.
   for (const double radius : {0.0, 0.1}) {
-    ASSERT_TRUE(decompose(b, m, config(radius)).is_ok());
+    BoustrophedonConfig cfg = config(radius);
+    cfg.lane_grid = false;
+    ASSERT_TRUE(decompose(b, m, cfg).is_ok());
     ASSERT_GE(b.cell_count(), 6u);
     for (std::size_t k = 0; k < b.cell_count(); ++k) {
       for (std::uint8_t e = 0; e < 4; ++e) {
@@ -211,7 +243,52 @@ TEST(BoustrophedonTest, EveryRouteSweepsItsCellWithTheToolWidth) {
         EXPECT_EQ(route_coverage(b, m, v, 0.5), 1.0);
       }
     }
+    cfg.lane_grid = true;
+    ASSERT_TRUE(decompose(b, m, cfg).is_ok());
+    EXPECT_EQ(all_routes_coverage(b, m, 0.5), 1.0) << "radius " << radius;
   }
+}
+
+// Beside a block (split into cells left, below, above and right of it) the cells below and
+// above start at the block's first column, whose left neighbour is the free cell on the left:
+// they lay no lane of their own there, and every lane is at least half the spacing from the
+// next one across the border; lane_grid false lays one on each side of it.
+TEST(BoustrophedonTest, AnOpenBorderIsSweptFromTheGridNotFromBothSides) {
+  Boustrophedon b;
+  ASSERT_TRUE(b.init(100, 100, 64, 256).is_ok());
+  Mask m(41, 30);
+  m.fill(13, 10, 26, 19, 0);
+  const auto columns = [&]() {
+    std::vector<int> c;
+    for (std::size_t k = 0; k < b.lane_count(); ++k) c.push_back(b.lane(k).column);
+    return c;
+  };
+  BoustrophedonConfig cfg = config();
+  cfg.lane_grid = false;
+  ASSERT_TRUE(decompose(b, m, cfg).is_ok());
+  ASSERT_EQ(b.cell_count(), 4u);
+  const std::vector<int> spread = columns();
+  EXPECT_EQ(std::count(spread.begin(), spread.end(), 12), 1);  // the left cell's last
+  EXPECT_EQ(std::count(spread.begin(), spread.end(), 13), 2);  // below's and above's first
+  cfg.lane_grid = true;
+  ASSERT_TRUE(decompose(b, m, cfg).is_ok());
+  ASSERT_EQ(b.cell_count(), 4u);
+  const std::vector<int> grid = columns();
+  EXPECT_LT(grid.size(), spread.size());
+  EXPECT_EQ(std::count(grid.begin(), grid.end(), 12), 1);  // the left cell faces the block
+  EXPECT_EQ(std::count(grid.begin(), grid.end(), 13), 0);
+  for (std::size_t k = 0; k < b.cell_count(); ++k) {
+    const CoverCell& c = b.cell(k);
+    for (std::uint32_t i = 1; i < c.lanes; ++i) {
+      const int gap = b.lane(c.first_lane + i).column - b.lane(c.first_lane + i - 1).column;
+      EXPECT_GE(gap, 5) << "cell " << k;  // half of 9 columns, rounded up
+      EXPECT_LE(gap, 9) << "cell " << k;
+    }
+  }
+  // Across the left border of the cells below and above: the left cell's lane at column 12,
+  // theirs on the grid at 18 (2 x 9), 6 apart.
+  EXPECT_EQ(b.lane(b.cell(1).first_lane).column, 18);
+  EXPECT_EQ(all_routes_coverage(b, m, 0.5), 1.0);
 }
 
 TEST(BoustrophedonTest, RoutesStartAndEndAtTheVisitsCornersAndReverse) {
@@ -270,7 +347,6 @@ TEST(BoustrophedonTest, RandomRoutesStayInTheirCellsAndSweepNearlyAllOfThem) {
   for (std::uint32_t seed = 1; seed <= 10; ++seed) {
     const Mask m = random_mask(seed);
     ASSERT_TRUE(decompose(b, m).is_ok());
-    std::size_t covered = 0, total = 0;
     for (std::size_t k = 0; k < b.cell_count(); ++k) {
       // Every point of the route, U-turns included, on a free cell of its own cell.
       ASSERT_TRUE(b.route(CellVisit{std::uint16_t(k), 0}, route));
@@ -281,11 +357,8 @@ TEST(BoustrophedonTest, RandomRoutesStayInTheirCellsAndSweepNearlyAllOfThem) {
           ASSERT_EQ(b.label(x, y), k) << "seed " << seed << " at " << p.transpose();
         }
       }
-      const double f = route_coverage(b, m, CellVisit{std::uint16_t(k), 0}, 0.5);
-      covered += std::size_t(std::lround(f * b.cell(k).area));
-      total += b.cell(k).area;
     }
-    worst = std::fmin(worst, double(covered) / double(total));
+    worst = std::fmin(worst, all_routes_coverage(b, m, 0.5));
   }
   // Cells bounded by specks and slanted block edges lose a little at their lane ends.
   EXPECT_GT(worst, 0.97);
