@@ -154,9 +154,11 @@ void apply_coverage(const RobotSpec& r, const MissionSpec& mission, fw::Firmware
   // no faster than the robot can.
   k.sweep.cruise_speed_mps = mission.speed_mps;
   k.sweep.max_yaw_rate_radps = c.limits.max_yaw_rate_radps;
-  k.transit_pursuit.cruise_speed_mps = mission.speed_mps;
-  k.transit_pursuit.max_yaw_rate_radps =
-      std::min(k.transit_pursuit.max_yaw_rate_radps, c.limits.max_yaw_rate_radps);
+  k.transit_speed_mps =
+      mission.transit_speed_mps > 0.0 ? mission.transit_speed_mps : mission.speed_mps;
+  k.transit_pursuit.cruise_speed_mps = k.transit_speed_mps;
+  k.transit_pursuit.max_yaw_rate_radps = c.limits.max_yaw_rate_radps;
+  k.lane_overlap = mission.lane_overlap;
   k.wall_clearance_m = mission.wall_clearance_m;
   k.max_time_s = mission.max_time_s;
   for (const GoalSpec& p : mission.area) k.area.push_back(fw::Vec2(p.x_m, p.y_m));

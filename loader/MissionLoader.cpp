@@ -139,8 +139,9 @@ void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema&
 // coverage: the mode, the tool, the area and a time limit.
 void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                     MissionSpec& mission) {
-  m.expect_map(with_map_keys(schema, {"type", "mode", "tool_width_m", "wall_clearance_m", "area",
-                                      "max_time_s", "speed_mps"}));
+  m.expect_map(
+      with_map_keys(schema, {"type", "mode", "tool_width_m", "wall_clearance_m", "area",
+                             "max_time_s", "speed_mps", "transit_speed_mps", "lane_overlap"}));
   if (auto n = m.get("mode")) mission.coverage_mode = n->one_of({"systematic", "vacuum"});
   if (auto n = m.get("tool_width_m")) mission.tool_width_m = n->number(Range::closed(0.05, 3.0));
   if (auto n = m.get("wall_clearance_m")) {
@@ -148,7 +149,18 @@ void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& 
   }
   if (auto n = m.get("max_time_s")) mission.max_time_s = n->number(Range::closed(1.0, 86400.0));
   if (auto a = m.get("area")) mission.area = parse_points(*a, 3, 16, "corners");
+  if (auto n = m.get("lane_overlap")) mission.lane_overlap = n->number(Range::closed(0.0, 0.5));
   parse_speed(m, robot, schema, mission);
+  // Transits cross floor already swept (or to be swept): up to the robot's top speed.
+  if (auto n = m.get("transit_speed_mps")) {
+    const double max_speed = robot.limits.max_speed_mps;
+    mission.transit_speed_mps = n->number(Range::closed(0.01, 5.0));
+    if (mission.transit_speed_mps > max_speed) {
+      n->expected(
+          "a number in (0, " + schema.speed_limit + " = " + strict::format_number(max_speed) + "]",
+          n->raw());
+    }
+  }
   parse_map_keys(m, schema, mission);
   if (schema.file && mission.coverage_mode == "systematic" && mission.map_path.empty()) {
     m.child_path("map").expected("a map file: a systematic coverage mission plans on a map",

@@ -57,8 +57,10 @@ struct MissionSpec {
   // the tool's width, the area (a polygon in the map frame; empty: the map's free space), and a
   // time limit (the vacuum's run time).
   std::string coverage_mode = "systematic";
-  double tool_width_m = 0.0;      // 0: the robot's width [m]
-  double wall_clearance_m = 0.0;  // the lanes keep this beyond the robot's inscribed radius [m]
+  double tool_width_m = 0.0;       // 0: the robot's width [m]
+  double wall_clearance_m = 0.0;   // the lanes keep this beyond the robot's inscribed radius [m]
+  double transit_speed_mps = 0.0;  // between cells; 0: speed_mps [m/s]
+  double lane_overlap = 0.1;       // neighbouring lanes overlap by this fraction of the tool [-]
   std::vector<GoalSpec> area;
   double max_time_s = 1800.0;  // [s]
   // A mission file's known map (`map:`, resolved against the file's folder; "" without one)

@@ -29,19 +29,24 @@ Status VacuumConfig::validate() const {
 CoverageConfig::CoverageConfig() {
   sweep.cruise_speed_mps = speed_mps;
   sweep.max_yaw_rate_radps = 1.5;
-  transit_pursuit.cruise_speed_mps = speed_mps;
+  transit_pursuit.cruise_speed_mps = transit_speed_mps;
   transit_pursuit.slow_radius_m = 0.2;
   // Short: a long lookahead cuts the corners of doors. Facing more than 0.4 rad away from the
   // pursued point, turn on the spot: an arc started that far off heads into the wall beside a
   // lane's end.
   transit_pursuit.lookahead_m = 0.3;
   transit_pursuit.rotate_in_place_rad = 0.4;
+  // Turns on the spot at a transit's start take a tenth of the run at the default gain of 2.
+  transit_pursuit.turn_gain = 3.0;
 }
 
 Status CoverageConfig::validate() const {
   Checks c("coverage");
   c.range("tool_width_m", tool_width_m, 0.05, 5.0, "m")
       .range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
+      .range("transit_speed_mps", transit_speed_mps, 0.01, 5.0, "m/s")
+      .range("transit_edge_margin_m", transit_edge_margin_m, 0.0, 2.0, "m")
+      .range("transit_edge_lookahead_m", transit_edge_lookahead_m, 0.0, 5.0, "m")
       .range("lane_overlap", lane_overlap, 0.0, 0.9, "")
       .range("turn_radius_m", turn_radius_m, 0.0, 5.0, "m")
       .range("wall_clearance_m", wall_clearance_m, 0.0, 1.0, "m")

@@ -80,9 +80,14 @@ struct VacuumConfig {
 
 struct CoverageConfig {
   CoverageMode mode = CoverageMode::Systematic;
-  double tool_width_m = 0.5;         // the tool's width across the robot [m]
-  double speed_mps = 0.4;            // cruise speed on the lanes and in transit [m/s]
-  double lane_overlap = 0.1;         // lanes are tool_width * (1 - lane_overlap) apart [-]
+  double tool_width_m = 0.5;       // the tool's width across the robot [m]
+  double speed_mps = 0.4;          // cruise speed on the lanes [m/s]
+  double transit_speed_mps = 0.4;  // cruise speed between cells [m/s]
+  // Above speed_mps only where no cell within this margin of the robot's centre, nor of the
+  // point transit_edge_lookahead_m ahead of it, is off the static area [m]
+  double transit_edge_margin_m = 0.1;
+  double transit_edge_lookahead_m = 0.25;  // [m]
+  double lane_overlap = 0.1;               // lanes are tool_width * (1 - lane_overlap) apart [-]
   double turn_radius_m = 0.0;        // U-turn arcs between lanes; 0: half the lane spacing [m]
   double wall_clearance_m = 0.0;     // the lanes keep this much beyond the inscribed radius [m]
   StaticVector<Vec2, 16> area;       // the area's polygon, map frame [m]; empty: the whole map
@@ -191,6 +196,7 @@ class CoverageMission final : public Mission {
   MissionOutput reverse(const Pose2& pose);
   MissionOutput emergency_stop(const Pose2& pose);
   bool cut_lane(const Pose2& pose, const PathProjection& at);
+  bool near_edge(const Vec2& p) const;
   // obstacles the map does not show (CoverageObstacles.cpp)
   void build_mapped_mask();
   bool unmapped_lethal(int cx, int cy) const;

@@ -298,6 +298,18 @@ MissionOutput CoverageMission::transit(const Pose2& pose) {
   }
   MissionOutput out;
   out.motion.twist = transit_follower_.update(pose, waypoints_.begin(), waypoints_.size());
+  Twist& t = out.motion.twist;
+  if (t.vx > cfg_.speed_mps) {
+    // Faster than the lanes only in the open: near the edge of where the centre may stand (at a
+    // door's jamb, along a wall), here or just ahead, the pursuit's cut corners would touch.
+    const Vec2 here(pose.x, pose.y);
+    const Vec2 ahead =
+        here + cfg_.transit_edge_lookahead_m * Vec2(std::cos(pose.yaw), std::sin(pose.yaw));
+    if (near_edge(here) || near_edge(ahead)) {
+      t.wz *= cfg_.speed_mps / t.vx;  // the same curvature
+      t.vx = cfg_.speed_mps;
+    }
+  }
   if (out.motion.twist.vx > 0.0 && lethal_near(pose, cfg_.emergency_stop_m, true, false)) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
@@ -307,6 +319,22 @@ MissionOutput CoverageMission::transit(const Pose2& pose) {
   }
   if (transit_follower_.at_end()) arrive(pose);
   return out;
+}
+
+// Whether a cell within transit_edge_margin_m of p is no place for the robot's centre (the
+// static area's edge: a wall or a jamb within the inscribed radius plus that margin).
+bool CoverageMission::near_edge(const Vec2& p) const {
+  int ci = 0, cj = 0;
+  if (!map_.cell_of(p.x(), p.y(), ci, cj)) return true;
+  const int r = int(std::ceil(cfg_.transit_edge_margin_m / map_.resolution()));
+  for (int dj = -r; dj <= r; ++dj) {
+    for (int di = -r; di <= r; ++di) {
+      if (di * di + dj * dj > r * r) continue;
+      if (!map_.contains(ci + di, cj + dj)) return true;
+      if (base_costs_[cell_index(ci + di, cj + dj)] == cost::kLethal) return true;
+    }
+  }
+  return false;
 }
 
 // Stop, back off, plan again; after max_recoveries stops in a row the target is given up.

@@ -142,8 +142,9 @@ TEST(FirmwareConfigBuilder, EveryValueThePresetAcceptsTheFirmwareAcceptsToo) {
   EXPECT_TRUE(b.ok) << b.error;
 }
 
-// A coverage mission's followers drive at the mission's speed (the score's lower bound is taken
-// at it) and turn no faster than the robot; its wall clearance is passed on.
+// A coverage mission's lanes are driven at the mission's speed (the score's lower bound is taken
+// at it), its transits at transit_speed_mps (the mission's speed unless given), both turning no
+// faster than the robot; its wall clearance and lane overlap are passed on.
 TEST(FirmwareConfigBuilder, CoverageFollowersDriveTheMissionsSpeed) {
   MissionSpec m = mission("marks", 0.3);
   m.type = "coverage";
@@ -159,6 +160,17 @@ TEST(FirmwareConfigBuilder, CoverageFollowersDriveTheMissionsSpeed) {
   EXPECT_EQ(k.sweep.max_yaw_rate_radps, 1.2);
   EXPECT_LE(k.transit_pursuit.max_yaw_rate_radps, 1.2);
   EXPECT_EQ(k.wall_clearance_m, 0.05);
+  EXPECT_EQ(k.transit_speed_mps, 0.3);
+  EXPECT_DOUBLE_EQ(k.lane_overlap, 0.1);
+  // Transits at their own speed, lanes at the mission's; the lanes' overlap passed on.
+  m.transit_speed_mps = 0.6;
+  m.lane_overlap = 0.05;
+  const BuildResult fast = build_firmware_config(r, m);
+  ASSERT_TRUE(fast.ok) << fast.error;
+  EXPECT_EQ(fast.config.coverage.transit_speed_mps, 0.6);
+  EXPECT_EQ(fast.config.coverage.transit_pursuit.cruise_speed_mps, 0.6);
+  EXPECT_EQ(fast.config.coverage.sweep.cruise_speed_mps, 0.3);
+  EXPECT_DOUBLE_EQ(fast.config.coverage.lane_overlap, 0.05);
 }
 
 TEST(FirmwareConfigBuilder, UnknownStrategyIsRejected) {

@@ -101,6 +101,8 @@ struct Result {
   int collisions = 0;           // ticks with a wall or obstacle cell under the body's circle
   double min_obstacle_m = 1e9;  // robot centre to the hidden obstacle
   bool backed_up_after_bump = false, turned_after_backup = false;
+  // Fastest speed in TRANSIT with a wall cell within 0.33 m of the centre, and farther [m/s].
+  double transit_vx_near_wall = 0.0, transit_vx_open = 0.0;
   std::vector<double> update_us;  // update() times on this host (figures, not tests) [us]
   double update_percentile(double q) const {
     if (update_us.empty()) return 0.0;
@@ -161,6 +163,22 @@ struct Rig {
     }
     return false;
   }
+  // Distance from the centre to the nearest lethal cell's centre of the true world within 0.5 m
+  // (0.5 m when none) [m].
+  double wall_distance() const {
+    const int r = 10;
+    const int ci = int(std::floor(pose.x / kRes)), cj = int(std::floor(pose.y / kRes));
+    double best = 0.5;
+    for (int dj = -r; dj <= r; ++dj) {
+      for (int di = -r; di <= r; ++di) {
+        const int i = ci + di, j = cj + dj;
+        if (i < 0 || j < 0 || i >= kNx || j >= kNy) continue;
+        if (truth[std::size_t(j * kNx + i)] != cost::kLethal) continue;
+        best = std::fmin(best, std::hypot((i + 0.5) * kRes - pose.x, (j + 0.5) * kRes - pose.y));
+      }
+    }
+    return best;
+  }
   // Runs until the mission is done or failed or `seconds` pass.
   Result run(double seconds) {
     Result r;
@@ -193,6 +211,10 @@ struct Rig {
       const MissionStatus s = mission->state().status;
       if (s == MissionStatus::Done || s == MissionStatus::Failed) break;
       const Twist& t = out.motion.twist;
+      if (now == CoverageMission::State::Transit) {
+        double& v = wall_distance() < 0.33 ? r.transit_vx_near_wall : r.transit_vx_open;
+        v = std::fmax(v, t.vx);
+      }
       pose.x += std::cos(pose.yaw) * t.vx * 0.01;
       pose.y += std::sin(pose.yaw) * t.vx * 0.01;
       pose.yaw = wrap_angle(pose.yaw + t.wz * 0.01);
@@ -277,6 +299,22 @@ TEST(CoverageMissionTest, SystematicCoversTheTwoRoomsAndEndsDone) {
   rig.mission->counters(c);
   EXPECT_GE(c[0].value, 3u);  // cells: both rooms and the door at least
   EXPECT_EQ(c[2].value, 0u);  // no lane blocked
+}
+
+// Transits above the lanes' speed only in the open: within 0.33 m of a wall cell (the body's 0.25 m
+// radius, the 0.1 m edge margin less a cell's diagonal) at the lanes' speed at most.
+TEST(CoverageMissionTest, TransitsAreFastInTheOpenAndSlowNearWalls) {
+  Rig rig(CoverageMode::Systematic);
+  rig.cfg.transit_speed_mps = 0.8;
+  rig.cfg.transit_pursuit.cruise_speed_mps = 0.8;
+  rig.start();
+  ASSERT_TRUE(rig.mission->init_status().is_ok()) << rig.mission->init_status().message();
+  const Result r = rig.run(600.0);
+  ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
+  EXPECT_GT(r.transit_vx_open, rig.cfg.speed_mps + 0.1);
+  EXPECT_GT(r.transit_vx_near_wall, 0.0);
+  EXPECT_LE(r.transit_vx_near_wall, rig.cfg.speed_mps + 1e-9);
+  EXPECT_EQ(r.collisions, 0);
 }
 
 TEST(CoverageMissionTest, AnObstacleMissingFromTheMapIsDrivenRoundAndItsSurroundsSwept) {

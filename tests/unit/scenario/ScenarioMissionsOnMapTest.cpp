@@ -107,6 +107,13 @@ TEST(ScenarioMissionsOnMap, GotoWithGoalsWaypointsAndCoverage) {
   EXPECT_EQ(r.scenario.mission.coverage_mode, "vacuum");
   EXPECT_DOUBLE_EQ(r.scenario.mission.tool_width_m, 0.4);
   EXPECT_EQ(r.scenario.mission.area.size(), 3U);
+  EXPECT_EQ(r.scenario.mission.transit_speed_mps, 0.0);  // the mission's speed
+  EXPECT_DOUBLE_EQ(r.scenario.mission.lane_overlap, 0.1);
+  r = load_in_scenarios(kHead +
+                        "mission: {type: coverage, transit_speed_mps: 0.7, lane_overlap: 0.05}\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_DOUBLE_EQ(r.scenario.mission.transit_speed_mps, 0.7);
+  EXPECT_DOUBLE_EQ(r.scenario.mission.lane_overlap, 0.05);
 }
 
 TEST(ScenarioMissionsOnMap, BadMissionKeysAreNamed) {
@@ -123,6 +130,13 @@ TEST(ScenarioMissionsOnMap, BadMissionKeysAreNamed) {
   EXPECT_TRUE(
       fails_naming(load_in_scenarios(kHead + "mission: {type: coverage, area: [[0, 0], [1, 1]]}\n"),
                    {"area", "3 to 16 corners"}));
+  // The transits may go as fast as the robot (pioneer3at: 0.7 m/s), no faster.
+  EXPECT_TRUE(
+      fails_naming(load_in_scenarios(kHead + "mission: {type: coverage, transit_speed_mps: 0.8}\n"),
+                   {"transit_speed_mps", "max_speed_mps = 0.7", "0.8"}));
+  EXPECT_TRUE(
+      fails_naming(load_in_scenarios(kHead + "mission: {type: coverage, lane_overlap: 0.6}\n"),
+                   {"lane_overlap", "[0, 0.5]"}));
 }
 
 }  // namespace
