@@ -174,6 +174,15 @@ double Boustrophedon::wall_fraction(std::size_t cell, int column, int beyond) co
   return double(blocked) / double(y1 - y0 + 1);
 }
 
+void Boustrophedon::place_lane(std::size_t k, CoverLane& l, int column) const {
+  l.column = column;
+  interval_of(k, column, l.y0, l.y1);
+  l.x = ox_ + (column + 0.5) * res_;
+  l.y0_m = oy_ + (l.y0 + 0.5) * res_;
+  l.y1_m = oy_ + (l.y1 + 0.5) * res_;
+  l.cell = std::uint16_t(k);
+}
+
 Status Boustrophedon::lay_lanes(std::size_t k) {
   CoverCell& c = cells_[k];
   const int span = c.x1 - c.x0;                       // [columns]
@@ -189,8 +198,8 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
     fits = add((c.x0 + c.x1) / 2);
   } else if (!cfg_.lane_grid) {
     // Evenly spread, the outer ones on the first and last columns.
-    const std::size_t m = std::min(std::size_t(std::ceil(span / spacing - 1e-9)) + 1,
-                                   std::size_t(span) + 1);
+    const std::size_t m =
+        std::min(std::size_t(std::ceil(span / spacing - 1e-9)) + 1, std::size_t(span) + 1);
     for (std::size_t i = 0; i < m && fits; ++i) {
       fits = add(c.x0 + int(std::lround(double(i) * span / double(m - 1))));
     }
@@ -240,14 +249,8 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
   }
   c.first_lane = std::uint32_t(lanes_n_);
   c.lanes = std::uint32_t(n);
-  for (std::size_t m = 0; m < n; ++m) {
-    CoverLane& l = lanes_[lanes_n_ + m];
-    interval_of(k, l.column, l.y0, l.y1);
-    l.x = ox_ + (l.column + 0.5) * res_;
-    l.y0_m = oy_ + (l.y0 + 0.5) * res_;
-    l.y1_m = oy_ + (l.y1 + 0.5) * res_;
-    l.cell = std::uint16_t(k);
-  }
+  for (std::size_t m = 0; m < n; ++m)
+    place_lane(k, lanes_[lanes_n_ + m], lanes_[lanes_n_ + m].column);
   c.single_pass = n > 1;
   for (std::size_t m = 0; m < n; ++m) {
     const CoverLane& l = lanes_[lanes_n_ + m];
@@ -257,14 +260,8 @@ Status Boustrophedon::lay_lanes(std::size_t k) {
     // One pass from the first column to the last: the visit's ends are those columns.
     n = 2;
     c.lanes = 2;
-    for (std::size_t m = 0; m < 2; ++m) {
-      CoverLane& l = lanes_[lanes_n_ + m];
-      l.column = m == 0 ? c.x0 : c.x1;
-      interval_of(k, l.column, l.y0, l.y1);
-      l.x = ox_ + (l.column + 0.5) * res_;
-      l.y0_m = oy_ + (l.y0 + 0.5) * res_;
-      l.y1_m = oy_ + (l.y1 + 0.5) * res_;
-    }
+    place_lane(k, lanes_[lanes_n_], c.x0);
+    place_lane(k, lanes_[lanes_n_ + 1], c.x1);
   }
   for (std::size_t m = 0; m < n; ++m) {
     CoverLane& l = lanes_[lanes_n_ + m];

@@ -6,9 +6,12 @@
 // or bottom jumps by more than max_boundary_step cells from one column to the next (a door in the
 // wall the lanes run against): lanes joined at such a jump would leave the step unswept.
 //
-// Each cell is covered by vertical lanes (along the sweep line) spaced at most lane_spacing_m
-// apart, the outer ones on its first and last columns; a cell whose lanes are all shorter than
-// the spacing is one pass through their midpoints instead (CoverCell::single_pass). Neighbouring
+// Each cell is covered by vertical lanes (along the sweep line) on one grid of columns across the
+// map, lane_spacing_m apart, plus a lane on its first or last column where that border faces a
+// wall (an open border is swept from the cell beyond it, whose lanes are on the same grid); with
+// lane_grid off, each cell's lanes are spread evenly from its first column to its last. A cell
+// whose lanes are all shorter than the spacing is one pass through the middles of its columns
+// instead (CoverCell::single_pass). Neighbouring
 // lanes are joined at their ends by a U-turn: two quarter arcs of turn_radius_m and the straight
 // between (a half circle when the radius is half the spacing), kept inside the cell's columns
 // between the two lanes.
@@ -134,6 +137,7 @@ class Boustrophedon {
   bool push_arc(void* out, PushFn push, const Vec2& c, double r, double a0, double a1, double vy,
                 bool skip_first) const;
   Status lay_lanes(std::size_t k);
+  void place_lane(std::size_t k, CoverLane& l, int column) const;  // on cell k's interval there
   double wall_fraction(std::size_t cell, int column, int beyond) const;
   void interval_of(std::size_t cell, int column, int& y0, int& y1) const;
   void measure_gaps();
