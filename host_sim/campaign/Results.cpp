@@ -158,68 +158,85 @@ std::string csv_field(const std::string& s) {
   return q;
 }
 
-CollectResult collect_results(const CampaignSpec& spec, const std::string& out_dir) {
-  CollectResult r;
-  std::vector<std::string> columns;  // summary fields, in first-seen order
-  struct Row {
-    std::vector<std::string> head;
-    Fields fields;
-  };
-  std::vector<Row> rows;
+const std::string& RunRow::field(const std::string& key) const {
+  static const std::string kNone;
+  for (const auto& [k, v] : fields) {
+    if (k == key) return v;
+  }
+  return kNone;
+}
+
+ResultsTable load_results(const CampaignSpec& spec, const std::string& out_dir) {
+  ResultsTable t;
   for (std::uint64_t i = 0; i < spec.variant_count(); ++i) {
-    const std::string status = variant_status(out_dir, i);
-    if (status.empty()) {
-      ++r.missing;
+    RunRow row;
+    row.status = variant_status(out_dir, i);
+    if (row.status.empty()) {
+      ++t.missing;
       continue;
     }
     const Variant v = make_variant(spec, i);
-    Row row;
-    row.head = {std::to_string(i), v.base_name, v.preset, v.strategy, std::to_string(v.seed)};
-    for (const double x : v.values) row.head.push_back(number_text(x));
-    row.head.push_back(status);
+    row.index = i;
+    row.values = v.values;
+    row.base_name = v.base_name;
+    row.preset = v.preset;
+    row.strategy = v.strategy;
+    row.seed = v.seed;
     const fs::path summary = fs::path(variant_dir(out_dir, i)) / "sim" / "summary.json";
     std::ifstream in(summary, std::ios::binary);
-    if (in) {
+    if (in) {  // a simulator that refused its input or crashed may have left none
       std::ostringstream s;
       s << in.rdbuf();
       const auto f = parse_summary(s.str());
       if (!f) {
-        r.error = summary.string() + ": expected a JSON object (a carril_sim summary)";
-        return r;
+        t.error = summary.string() + ": expected a JSON object (a carril_sim summary)";
+        return t;
       }
       row.fields = *f;
       for (const auto& [k, val] : row.fields) {
         bool seen = false;
-        for (const std::string& c : columns) seen = seen || c == k;
-        if (!seen) columns.push_back(k);
+        for (const std::string& c : t.columns) seen = seen || c == k;
+        if (!seen) t.columns.push_back(k);
       }
     }
-    rows.push_back(std::move(row));
+    // Without a robot list the scenario's own preset and strategy ran: the summary says which.
+    t.rows.push_back(std::move(row));
   }
+  t.ok = true;
+  return t;
+}
+
+std::string results_csv(const CampaignSpec& spec, const ResultsTable& t) {
   std::string csv = "index,base_scenario,preset,strategy,seed";
   for (const Perturbation& p : spec.perturbations) csv += "," + p.key;
   csv += ",status";
-  for (const std::string& c : columns) csv += "," + csv_field(c);
+  for (const std::string& c : t.columns) csv += "," + csv_field(c);
   csv += "\n";
-  for (const Row& row : rows) {
-    for (std::size_t k = 0; k < row.head.size(); ++k)
-      csv += (k ? "," : "") + csv_field(row.head[k]);
-    for (const std::string& c : columns) {
-      csv.push_back(',');
-      for (const auto& [k, val] : row.fields) {
-        if (k == c) {
-          csv += csv_field(val);
-          break;
-        }
-      }
-    }
+  for (const RunRow& row : t.rows) {
+    csv += std::to_string(row.index) + "," + csv_field(row.base_name) + "," +
+           csv_field(row.preset) + "," + csv_field(row.strategy) + "," + std::to_string(row.seed);
+    for (const double x : row.values) csv += "," + number_text(x);
+    csv += "," + csv_field(row.status);
+    for (const std::string& c : t.columns) csv += "," + csv_field(row.field(c));
     csv += "\n";
   }
+  return csv;
+}
+
+CollectResult collect_results(const CampaignSpec& spec, const std::string& out_dir) {
+  CollectResult r;
+  const ResultsTable t = load_results(spec, out_dir);
+  r.missing = t.missing;
+  if (!t.ok) {
+    r.error = t.error;
+    return r;
+  }
+  const std::string csv = results_csv(spec, t);
   if (auto e = loader::write_file_atomically((fs::path(out_dir) / "results.csv").string(), csv)) {
     r.error = *e;
     return r;
   }
-  r.rows = rows.size();
+  r.rows = t.rows.size();
   r.ok = true;
   return r;
 }

@@ -20,6 +20,34 @@ std::optional<std::vector<std::pair<std::string, std::string>>> parse_summary(
 // One CSV field, quoted when it holds a comma, a quote or a line break.
 std::string csv_field(const std::string& s);
 
+// One finished variant: what it was, how it ended and its summary's fields.
+struct RunRow {
+  std::uint64_t index = 0;
+  std::vector<double> values;  // its perturbation values (CampaignSpec::perturbations' order)
+  std::string base_name, preset, strategy;
+  std::uint64_t seed = 0;
+  std::string status;  // "exit 0", "exit 1", "exit 2", "signal N"
+  std::vector<std::pair<std::string, std::string>> fields;
+
+  // The summary field `key` ("" when absent or null).
+  const std::string& field(const std::string& key) const;
+  bool passed() const { return status == "exit 0"; }
+  bool failed() const { return status == "exit 1"; }  // ran, missed its expectations
+};
+
+struct ResultsTable {
+  bool ok = false;
+  std::vector<RunRow> rows;          // finished variants, by index
+  std::vector<std::string> columns;  // summary fields, in first-seen order
+  std::uint64_t missing = 0;         // variants not finished yet
+  std::string error;                 // a summary that could not be read
+};
+
+// Reads every finished variant of the campaign in `out_dir`.
+ResultsTable load_results(const CampaignSpec& spec, const std::string& out_dir);
+// The CSV text of `t`.
+std::string results_csv(const CampaignSpec& spec, const ResultsTable& t);
+
 struct CollectResult {
   bool ok = false;
   std::uint64_t rows = 0;     // finished variants written

@@ -1,7 +1,7 @@
 // carril_campaign: randomized scenario campaigns on this machine's cores (docs/campaigns.md).
 //   carril_campaign run FILE [--out DIR] [--jobs N]   run (or resume) every variant, then collect
 //   carril_campaign status FILE [--out DIR]           how many are finished, passed, failed
-//   carril_campaign collect FILE [--out DIR]          write DIR/results.csv
+//   carril_campaign collect FILE [--out DIR]          write DIR/results.csv and DIR/report.md
 // Exit status: 0 every variant finished (passing or not), 1 some simulator refused its input or
 // crashed, 2 bad input or the campaign could not be run, 130 interrupted (run it again to resume).
 #include <unistd.h>
@@ -12,8 +12,10 @@
 #include <thread>
 
 #include "host_sim/campaign/CampaignFile.hpp"
+#include "host_sim/campaign/Report.hpp"
 #include "host_sim/campaign/Results.hpp"
 #include "host_sim/campaign/Runner.hpp"
+#include "loader/AtomicWrite.hpp"
 #include "loader/StrictYaml.hpp"
 
 namespace {
@@ -69,7 +71,8 @@ int main(int argc, char** argv) {
   bool quiet = false;
   CLI::App* run = app.add_subcommand("run", "run (or resume) every variant, then collect");
   CLI::App* status = app.add_subcommand("status", "how many variants are finished");
-  CLI::App* collect = app.add_subcommand("collect", "write OUT/results.csv");
+  CLI::App* collect =
+      app.add_subcommand("collect", "write OUT/results.csv and the report, OUT/report.md");
   for (CLI::App* sub : {run, status, collect}) {
     sub->add_option("file", file, "campaign file (YAML)")->required();
     sub->add_option("--out", out, "results folder (default: runs/campaigns/<name>)");
@@ -129,14 +132,26 @@ int main(int argc, char** argv) {
       return 130;
     }
   }
-  const CollectResult r = collect_results(spec, out);
-  if (!r.ok) {
-    std::fprintf(stderr, "carril_campaign: %s\n", r.error.c_str());
+  const ResultsTable table = load_results(spec, out);
+  if (!table.ok) {
+    std::fprintf(stderr, "carril_campaign: %s\n", table.error.c_str());
+    return 2;
+  }
+  if (auto e = carril::loader::write_file_atomically((fs::path(out) / "results.csv").string(),
+                                                     results_csv(spec, table))) {
+    std::fprintf(stderr, "carril_campaign: %s\n", e->c_str());
+    return 2;
+  }
+  std::error_code ec;
+  const std::string sim_abs = fs::absolute(sim, ec).lexically_normal().string();
+  const ReportResult rep = write_report(spec, table, fs::absolute(out, ec).string(), sim_abs);
+  if (!rep.ok) {
+    std::fprintf(stderr, "carril_campaign: the report: %s\n", rep.error.c_str());
     return 2;
   }
   const Counts c = count(spec, out);
   print_counts(spec, c);
-  std::printf("carril_campaign: wrote %s/results.csv (%llu rows)\n", out.c_str(),
-              static_cast<unsigned long long>(r.rows));
+  std::printf("carril_campaign: wrote %s/results.csv (%llu rows) and %s/report.md\n", out.c_str(),
+              static_cast<unsigned long long>(table.rows.size()), out.c_str());
   return c.errors > 0 ? 1 : 0;
 }

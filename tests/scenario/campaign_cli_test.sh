@@ -43,6 +43,9 @@ check "results.csv has a header and 3 rows" test "$(wc -l <"$work/out/results.cs
 check "the CSV names the perturbations" grep -q "^index,base_scenario,preset,strategy,seed,start_offset_m,camera_noise,status," "$work/out/results.csv"
 check "every variant has a status" test "$(cat "$work"/out/runs/*/status | grep -c '^exit [01]$')" -eq 3
 check "the progress line went to stderr" grep -q "3/3 done" "$work/e1"
+check "the report gives the pass rate" grep -q "^\*\*Pass rate: " "$work/out/report.md"
+check "the report names a replay command" grep -q -- "--scenario $work/out/runs/000000/scenario.yaml --view" "$work/out/report.md"
+check "the report's plots are PNGs" bash -c "file '$work/out/report/perturbation_camera_noise.png' | grep -q PNG"
 
 # 2. The variant's scenario replays: same trajectory byte for byte.
 "$sim" --scenario "$work/out/runs/000001/scenario.yaml" --out "$work/replay" --quiet >/dev/null
