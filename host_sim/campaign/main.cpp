@@ -1,7 +1,10 @@
-// carril_campaign: randomized scenario campaigns on this machine's cores (docs/campaigns.md).
+// carril_campaign: randomized scenario campaigns on this machine's cores or a Slurm cluster
+// (docs/campaigns.md).
 //   carril_campaign run FILE [--out DIR] [--jobs N]   run (or resume) every variant, then collect
+//   carril_campaign run FILE --slurm [--chunk-size K] submit the unfinished ones as a job array
 //   carril_campaign status FILE [--out DIR]           how many are finished, passed, failed
 //   carril_campaign collect FILE [--out DIR]          write DIR/results.csv and DIR/report.md
+//   carril_campaign work FILE --out DIR --chunk-size K --chunk C   one array task's variants
 // Exit status: 0 every variant finished (passing or not), 1 some simulator refused its input or
 // crashed, 2 bad input or the campaign could not be run, 130 interrupted (run it again to resume).
 #include <unistd.h>
@@ -9,12 +12,15 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <thread>
 
 #include "host_sim/campaign/CampaignFile.hpp"
 #include "host_sim/campaign/Report.hpp"
 #include "host_sim/campaign/Results.hpp"
 #include "host_sim/campaign/Runner.hpp"
+#include "host_sim/campaign/Slurm.hpp"
 #include "loader/AtomicWrite.hpp"
 #include "loader/StrictYaml.hpp"
 
@@ -22,13 +28,50 @@ namespace {
 namespace fs = std::filesystem;
 using namespace carril::sim::campaign;
 
+fs::path self_exe() {
+  std::error_code ec;
+  return fs::read_symlink("/proc/self/exe", ec);
+}
+
 // carril_sim beside this build's carril_campaign (host_sim/app/), unless $CARRIL_SIM says.
 std::string default_sim() {
   if (const char* e = std::getenv("CARRIL_SIM")) return e;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return "carril_sim";
+  const fs::path self = self_exe();
+  if (self.empty()) return "carril_sim";
   return (self.parent_path().parent_path() / "app" / "carril_sim").string();
+}
+
+std::string absolute(const std::string& p) {
+  std::error_code ec;
+  return fs::absolute(p, ec).lexically_normal().string();
+}
+
+// What Slurm says of the job array in OUT/slurm/job_id, best effort: "" when there is none.
+std::string slurm_state(const std::string& out) {
+  std::ifstream in(fs::path(out) / "slurm" / "job_id");
+  std::string id;
+  if (!(in >> id)) return "";
+  const std::string cmd = "squeue -h -r -j " + id + " -o %T 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (p == nullptr) return "slurm job " + id + ": squeue could not be run";
+  std::map<std::string, int> states;
+  char line[256];
+  std::string said;
+  while (std::fgets(line, sizeof line, p) != nullptr) {
+    std::string s(line);
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    if (s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ_") == std::string::npos && !s.empty()) {
+      ++states[s];
+    } else {
+      said += s;
+    }
+  }
+  const int rc = ::pclose(p);
+  if (rc != 0) return "slurm job " + id + ": squeue: " + said;
+  if (states.empty()) return "slurm job " + id + ": no task left in the queue";
+  std::string r = "slurm job " + id + ":";
+  for (const auto& [state, n] : states) r += " " + std::to_string(n) + " " + state;
+  return r;
 }
 
 struct Counts {
@@ -68,20 +111,33 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string file, out, sim = default_sim();
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-  bool quiet = false;
+  bool quiet = false, slurm = false;
+  SlurmOptions so;
+  std::uint64_t chunk = 0;
   CLI::App* run = app.add_subcommand("run", "run (or resume) every variant, then collect");
   CLI::App* status = app.add_subcommand("status", "how many variants are finished");
   CLI::App* collect =
       app.add_subcommand("collect", "write OUT/results.csv and the report, OUT/report.md");
-  for (CLI::App* sub : {run, status, collect}) {
+  CLI::App* work = app.add_subcommand("work", "run one chunk's variants (a Slurm array task)");
+  for (CLI::App* sub : {run, status, collect, work}) {
     sub->add_option("file", file, "campaign file (YAML)")->required();
     sub->add_option("--out", out, "results folder (default: runs/campaigns/<name>)");
   }
+  for (CLI::App* sub : {run, collect, work}) {
+    sub->add_option("--sim", sim,
+                    "the carril_sim executable (default: this build's, or $CARRIL_SIM)");
+  }
   run->add_option("--jobs", jobs, "simulators at a time (default: this machine's cores)")
       ->check(CLI::Range(1u, 4096u));
-  run->add_option("--sim", sim,
-                  "the carril_sim executable (default: this build's, or $CARRIL_SIM)");
   run->add_flag("--quiet", quiet, "no progress line");
+  run->add_flag("--slurm", slurm, "submit the unfinished variants to Slurm as one job array");
+  run->add_option("--partition", so.partition, "--slurm: the partition (default: the cluster's)");
+  run->add_option("--sbatch", so.sbatch, "--slurm: the submit command (default: sbatch)");
+  for (CLI::App* sub : {run, work}) {
+    sub->add_option("--chunk-size", so.chunk_size, "--slurm: variants per array task (10)")
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1000000)));
+  }
+  work->add_option("--chunk", chunk, "the chunk to run (a Slurm array task id)")->required();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -98,9 +154,11 @@ int main(int argc, char** argv) {
 
   if (status->parsed()) {
     print_counts(spec, count(spec, out));
+    const std::string s = slurm_state(out);
+    if (!s.empty()) std::printf("carril_campaign: %s\n", s.c_str());
     return 0;
   }
-  if (run->parsed()) {
+  if (run->parsed() || work->parsed()) {
     std::string error;
     if (!prepare_campaign_dir(spec, carril::loader::strict::read_file(file), out, error)) {
       std::fprintf(stderr, "carril_campaign: %s\n", error.c_str());
@@ -111,15 +169,43 @@ int main(int argc, char** argv) {
                    sim.c_str());
       return 2;
     }
-    std::vector<std::uint64_t> all(spec.variant_count());
-    for (std::uint64_t i = 0; i < all.size(); ++i) all[i] = i;
+    if (slurm) {
+      so.campaign_file = absolute(file);
+      so.out_dir = absolute(out);
+      so.campaign_exe = self_exe().string();
+      so.sim_path = absolute(sim);
+      const SubmitResult r = submit_to_slurm(spec, so);
+      if (!r.ok) {
+        std::fprintf(stderr, "carril_campaign: %s\n", r.error.c_str());
+        return 2;
+      }
+      if (r.job_id.empty()) {
+        std::printf("carril_campaign: every variant has finished: nothing to submit\n");
+      } else {
+        std::printf(
+            "carril_campaign: submitted slurm job %s: %llu array tasks of up to %llu variants\n"
+            "carril_campaign: follow it with: %s status %s --out %s\n"
+            "carril_campaign: gather it with: %s collect %s --out %s\n",
+            r.job_id.c_str(), static_cast<unsigned long long>(r.tasks),
+            static_cast<unsigned long long>(so.chunk_size), argv[0], file.c_str(), out.c_str(),
+            argv[0], file.c_str(), out.c_str());
+      }
+      return 0;
+    }
+    std::vector<std::uint64_t> todo;
+    if (work->parsed()) {
+      todo = chunk_variants(spec, so.chunk_size, chunk);
+    } else {
+      todo.resize(spec.variant_count());
+      for (std::uint64_t i = 0; i < todo.size(); ++i) todo[i] = i;
+    }
     RunnerOptions opt;
     opt.out_dir = out;
     opt.sim_path = sim;
-    opt.jobs = jobs;
-    opt.progress = !quiet;
+    opt.jobs = work->parsed() ? 1 : jobs;
+    opt.progress = !quiet && !work->parsed();
     opt.progress_tty = ::isatty(STDERR_FILENO) != 0;
-    const RunCounts c = run_variants(spec, all, opt);
+    const RunCounts c = run_variants(spec, todo, opt);
     if (!c.error.empty()) {
       std::fprintf(stderr, "carril_campaign: %s\n", c.error.c_str());
       return 2;
@@ -131,6 +217,7 @@ int main(int argc, char** argv) {
       std::printf("carril_campaign: interrupted; run the same command again to resume\n");
       return 130;
     }
+    if (work->parsed()) return c.errors > 0 ? 1 : 0;
   }
   const ResultsTable table = load_results(spec, out);
   if (!table.ok) {
@@ -142,9 +229,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "carril_campaign: %s\n", e->c_str());
     return 2;
   }
-  std::error_code ec;
-  const std::string sim_abs = fs::absolute(sim, ec).lexically_normal().string();
-  const ReportResult rep = write_report(spec, table, fs::absolute(out, ec).string(), sim_abs);
+  const ReportResult rep = write_report(spec, table, absolute(out), absolute(sim));
   if (!rep.ok) {
     std::fprintf(stderr, "carril_campaign: the report: %s\n", rep.error.c_str());
     return 2;

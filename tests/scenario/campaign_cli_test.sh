@@ -93,5 +93,19 @@ sed 's/seed: 3/seed: 4/' "$work/c/small.yaml" >"$work/c/other.yaml"
 check "another campaign's folder exits 2" test $? -eq 2
 check "the message says it holds another campaign" grep -q "another campaign" "$work/e8"
 
+# 6. A cluster that refuses the job (a stand-in sbatch): exit 2 with what it said, nothing lost.
+printf '#!/bin/sh\necho "sbatch: error: Batch job submission failed: Invalid account" >&2\nexit 1\n' >"$work/sbatch"
+chmod +x "$work/sbatch"
+rm -f "$work"/out/runs/000002/status  # as if its worker had died
+"$campaign" run "$work/c/small.yaml" --sim "$sim" --out "$work/out" --slurm --sbatch "$work/sbatch" >/dev/null 2>"$work/e9"
+check "a refused submission exits 2" test $? -eq 2
+check "the message quotes the cluster" grep -q "refused the job (exit 1): sbatch: error: Batch job submission failed: Invalid account; nothing was submitted" "$work/e9"
+"$campaign" status "$work/c/small.yaml" --out "$work/out" >"$work/o10"
+check "the finished variants are kept" grep -q "3 variants: 2 finished" "$work/o10"
+printf '#!/bin/sh\necho 4242\n' >"$work/sbatch"
+"$campaign" run "$work/c/small.yaml" --sim "$sim" --out "$work/out" --slurm --sbatch "$work/sbatch" --chunk-size 2 >"$work/o11" 2>&1
+check "only the chunk with an unfinished variant is submitted" grep -q "^#SBATCH --array=1$" "$work/out/slurm/job.sh"
+check "the job id is kept" grep -q "^4242$" "$work/out/slurm/job_id"
+
 echo "campaign_cli_test: $passes passed, $fails failed"
 [ "$fails" -eq 0 ]
