@@ -30,8 +30,8 @@ double deg2rad(double deg) {
 }  // namespace
 
 void parse_camera(const Node& m, CameraSpec& c, bool all) {
-  m.expect_map(
-      {"x_m", "y_m", "z_m", "tilt_deg", "hfov_deg", "width", "height", "rate_hz", "noise_std"});
+  m.expect_map({"x_m", "y_m", "z_m", "tilt_deg", "hfov_deg", "width", "height", "rate_hz",
+                "noise_std", "exposure"});
   if (auto n = m.get("x_m", all)) c.x_m = n->number(kMount);
   if (auto n = m.get("y_m", all)) c.y_m = n->number(kMount);
   if (auto n = m.get("z_m", all)) c.z_m = n->number(Range::closed(0.05, 5.0));
@@ -42,6 +42,8 @@ void parse_camera(const Node& m, CameraSpec& c, bool all) {
   if (auto n = m.get("height", all)) c.height = static_cast<int>(n->integer(32, 960));
   if (auto n = m.get("rate_hz", all)) c.rate_hz = n->number(Range::closed(1.0, 240.0));
   if (auto n = m.get("noise_std", all)) c.noise_std = n->number(Range::closed(0.0, 100.0));
+  // Simulated only (an over- or under-exposed image), so never required.
+  if (auto n = m.get("exposure")) c.exposure = n->number(Range::closed(0.25, 4.0));
 }
 
 // The camera must see the floor: the top image row looks below the horizon (else part of the
@@ -75,13 +77,13 @@ void check_camera_view(const Node& where, const CameraSpec& c) {
 void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   if (all) {
     m.expect_map({"present", "x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m",
-                  "range_max_m", "rate_hz", "noise_std_m"});
+                  "range_max_m", "rate_hz", "noise_std_m", "dropout"});
     if (auto n = m.get("present")) l.present = n->boolean();
     // A lidar that is not fitted needs no mount: its other keys become optional.
     all = l.present;
   } else {
     m.expect_map({"x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m", "range_max_m",
-                  "rate_hz", "noise_std_m"});
+                  "rate_hz", "noise_std_m", "dropout"});
   }
   if (auto n = m.get("x_m", all)) l.x_m = n->number(kMount);
   if (auto n = m.get("y_m", all)) l.y_m = n->number(kMount);
@@ -104,6 +106,8 @@ void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   }
   if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
   if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));
+  // Simulated only (beams lost to dark or shiny surfaces), so never required.
+  if (auto n = m.get("dropout")) l.dropout = n->number(Range::closed(0.0, 0.9));
 }
 
 // The same bounds as sim::Lidar3dConfig::validate() (host_sim/sensors/Lidar3dSim.cpp).

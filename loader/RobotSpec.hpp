@@ -23,6 +23,7 @@ struct CameraSpec {
   int width = 640, height = 480;           // [px]
   double rate_hz = 30.0;                   // frame rate [Hz]
   double noise_std = 0.0;                  // Gaussian pixel noise, per channel [0..255 units]
+  double exposure = 1.0;                   // simulated: every rendered level times this [-]
 };
 
 struct LidarSpec {
@@ -34,6 +35,7 @@ struct LidarSpec {
   double range_min_m = 0.05, range_max_m = 20.0;  // [m]
   double rate_hz = 20.0;                          // [Hz]
   double noise_std_m = 0.0;                       // Gaussian range noise [m]
+  double dropout = 0.0;  // simulated: fraction of beams with no return, drawn per beam [-]
 };
 
 // A 3D lidar (e.g. a Velodyne HDL-32E): `rings` beams evenly spread over

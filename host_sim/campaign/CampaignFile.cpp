@@ -134,6 +134,16 @@ const std::vector<PerturbationKind>& perturbation_kinds() {
       {"wheel_radius_error", -0.2, 0.2, "-", "odometry.wheel_radius_error"},
       {"obstacle_jitter_m", 0.0, 2.0, "m",
        "every obstacle moved by up to this, uniformly in a disc"},
+      {"extra_obstacles", 0.0, 20.0, "obstacles",
+       "this many more cylinders (rounded), placed at random off the tape, the start and the "
+       "walls"},
+      {"tape_gaps_per_m", 0.0, 5.0, "1/m", "tape_wear.gaps_per_m"},
+      {"tape_gap_length_m", 0.005, 2.0, "m", "tape_wear.gap_length_m"},
+      {"tape_fade", 0.0, 1.0, "-", "tape_wear.fade"},
+      {"floor_brightness", 0.5, 1.5, "-", "floor.color times this (each channel at most 255)"},
+      {"camera_exposure", 0.25, 4.0, "-", "robot.camera.exposure"},
+      {"glare_intensity", 0.0, 255.0, "grey levels", "glare.intensity"},
+      {"lidar_dropout", 0.0, 0.9, "-", "robot.lidar.dropout"},
   };
   return kinds;
 }

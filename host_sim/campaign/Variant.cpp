@@ -2,9 +2,13 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
+
+#include "host_sim/scenario/ScenarioLoader.hpp"
 
 namespace carril::sim::campaign {
 
@@ -66,6 +70,91 @@ double number_at(const YAML::Node& n, double fallback) {
   return n && n.IsScalar() ? n.as<double>() : fallback;
 }
 
+double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t =
+      l2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+
+double polyline_distance(const Vec2& p, const std::vector<Vec2>& pts) {
+  double d = pts.size() == 1 ? std::hypot(p.x - pts[0].x, p.y - pts[0].y) : 1e18;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    d = std::min(d, segment_distance(p, pts[i], pts[i + 1]));
+  }
+  return d;
+}
+
+// `count` cylinders of radius 0.1-0.25 m at places drawn in the walls' bounding box (else the
+// tape's, 1.5 m wider), each kept kTapeClear from the tape, kStartClear from the start, 0.1 m from
+// walls and 0.3 m from other obstacles; one that finds no such place in 200 draws is left out.
+void add_obstacles(int count, const Variant& v, const CampaignSpec& spec, YAML::Node& root) {
+  constexpr double kTapeClear = 0.5, kStartClear = 1.0;
+  const LoadResult base = load_scenario(spec.scenarios.at(v.scenario), default_robots_dir());
+  if (!base.ok) throw std::runtime_error(base.error);
+  const Scenario& s = base.scenario;
+  double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
+  const auto grow = [&](const Vec2& p) {
+    x0 = std::min(x0, p.x);
+    x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y);
+    y1 = std::max(y1, p.y);
+  };
+  for (const WallSpec& w : s.walls) {
+    for (const Vec2& p : w.points) grow(p);
+  }
+  if (s.walls.empty()) {
+    for (const LineSpec& l : s.lines) {
+      for (const Vec2& p : l.points) grow(p);
+    }
+    x0 -= 1.5;
+    x1 += 1.5;
+    y0 -= 1.5;
+    y1 += 1.5;
+  }
+  if (!(x1 > x0 && y1 > y0)) return;
+  struct Disc {
+    Vec2 c;
+    double r;
+  };
+  std::vector<Disc> taken;
+  for (const ObstacleSpec& o : s.obstacles) {
+    taken.push_back({o.center, o.shape == ObstacleShape::Box
+                                   ? 0.5 * std::hypot(o.size_x_m, o.size_y_m)
+                                   : o.radius_m});
+  }
+  if (!root["obstacles"] || !root["obstacles"].IsSequence()) {
+    root["obstacles"] = YAML::Node(YAML::NodeType::Sequence);
+  }
+  std::uint64_t k = 1000;  // draws of this key after the jitter's
+  for (int n = 0; n < count; ++n) {
+    for (int attempt = 0; attempt < 200; ++attempt) {
+      const double r = 0.1 + 0.15 * unit_draw(draw_key(spec.seed, v.index, "extra_obstacles", k++));
+      const Vec2 c{
+          x0 + 0.4 +
+              (x1 - x0 - 0.8) * unit_draw(draw_key(spec.seed, v.index, "extra_obstacles", k++)),
+          y0 + 0.4 +
+              (y1 - y0 - 0.8) * unit_draw(draw_key(spec.seed, v.index, "extra_obstacles", k++))};
+      bool ok = std::hypot(c.x - s.robot.start.x, c.y - s.robot.start.y) >= r + kStartClear;
+      for (const LineSpec& l : s.lines) ok = ok && polyline_distance(c, l.points) >= r + kTapeClear;
+      for (const WallSpec& w : s.walls) {
+        ok = ok && polyline_distance(c, w.points) >= r + 0.5 * w.thickness_m + 0.1;
+      }
+      for (const Disc& d : taken) ok = ok && std::hypot(c.x - d.c.x, c.y - d.c.y) >= r + d.r + 0.3;
+      if (!ok) continue;
+      taken.push_back({c, r});
+      YAML::Node o(YAML::NodeType::Map);
+      o.SetStyle(YAML::EmitterStyle::Flow);
+      o["shape"] = "cylinder";
+      o["x"] = text(c.x);
+      o["y"] = text(c.y);
+      o["radius_m"] = text(r);
+      root["obstacles"].push_back(o);
+      break;
+    }
+  }
+}
+
 void apply(const std::string& key, double value, const Variant& v, const CampaignSpec& spec,
            YAML::Node& root) {
   if (key == "start_offset_m" || key == "start_heading_deg") {
@@ -88,6 +177,30 @@ void apply(const std::string& key, double value, const Variant& v, const Campaig
     root["odometry"]["slip"] = text(value);
   } else if (key == "wheel_radius_error") {
     root["odometry"]["wheel_radius_error"] = text(value);
+  } else if (key == "tape_gaps_per_m") {
+    root["tape_wear"]["gaps_per_m"] = text(value);
+  } else if (key == "tape_gap_length_m") {
+    root["tape_wear"]["gap_length_m"] = text(value);
+  } else if (key == "tape_fade") {
+    root["tape_wear"]["fade"] = text(value);
+  } else if (key == "floor_brightness") {
+    YAML::Node c = root["floor"]["color"];
+    const bool given = c && c.IsSequence() && c.size() == 3;
+    YAML::Node out(YAML::NodeType::Sequence);
+    out.SetStyle(YAML::EmitterStyle::Flow);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double base = given ? c[k].as<double>() : 128.0;  // the format's default floor
+      out.push_back(std::to_string(std::lround(std::min(255.0, base * value))));
+    }
+    root["floor"]["color"] = out;
+  } else if (key == "camera_exposure") {
+    root["robot"]["camera"]["exposure"] = text(value);
+  } else if (key == "glare_intensity") {
+    root["glare"]["intensity"] = text(value);
+  } else if (key == "lidar_dropout") {
+    root["robot"]["lidar"]["dropout"] = text(value);
+  } else if (key == "extra_obstacles") {
+    add_obstacles(int(std::floor(value + 0.5)), v, spec, root);
   } else if (key == "obstacle_jitter_m") {
     YAML::Node obstacles = root["obstacles"];
     if (!obstacles || !obstacles.IsSequence()) return;

@@ -156,6 +156,23 @@ struct OdometryErrorSpec {
   bool any() const { return wheel_radius_error != 0.0 || slip != 0.0; }
 };
 
+// Worn tape (`tape_wear:`): gaps where the tape is missing, at places drawn from the scenario's
+// seed, and a colour faded toward the floor's.
+struct TapeWearSpec {
+  double gaps_per_m = 0.0;    // mean gaps per metre of tape [1/m]
+  double gap_length_m = 0.1;  // each gap's length along the tape [m]
+  double fade = 0.0;          // 0: the tape's colour; 1: the floor's [-]
+  bool any() const { return gaps_per_m > 0.0 || fade > 0.0; }
+};
+
+// Glare (`glare:`): a bright patch in the image, as a light's reflection on a shiny floor, that
+// sweeps across the image and back once per period at a row drawn from the seed.
+struct GlareSpec {
+  double intensity = 0.0;   // levels added at its centre (Gaussian fall-off) [0..255]
+  double radius_px = 60.0;  // the fall-off's standard deviation [px]
+  double period_s = 4.0;    // one sweep across and back [s]
+};
+
 struct Scenario {
   std::string source_path;  // file it was read from
   std::string name;
@@ -178,6 +195,8 @@ struct Scenario {
   std::shared_ptr<const loader::OccupancyMapData> map;
   LocalisationSpec localisation;
   OdometryErrorSpec odometry;
+  TapeWearSpec tape_wear;
+  GlareSpec glare;
   ExpectSpec expect;
 };
 

@@ -365,6 +365,24 @@ OdometryErrorSpec parse_odometry(const Node& m) {
   return o;
 }
 
+TapeWearSpec parse_tape_wear(const Node& m) {
+  m.expect_map({"gaps_per_m", "gap_length_m", "fade"});
+  TapeWearSpec w;
+  if (auto n = m.get("gaps_per_m")) w.gaps_per_m = n->number(Range::closed(0.0, 5.0));
+  if (auto n = m.get("gap_length_m")) w.gap_length_m = n->number(Range::closed(0.005, 2.0));
+  if (auto n = m.get("fade")) w.fade = n->number(Range::closed(0.0, 1.0));
+  return w;
+}
+
+GlareSpec parse_glare(const Node& m) {
+  m.expect_map({"intensity", "radius_px", "period_s"});
+  GlareSpec g;
+  g.intensity = m.at("intensity").number(Range::closed(0.0, 255.0));
+  if (auto n = m.get("radius_px")) g.radius_px = n->number(Range::closed(1.0, 2000.0));
+  if (auto n = m.get("period_s")) g.period_s = n->number(Range::closed(0.1, 3600.0));
+  return g;
+}
+
 ExpectSpec parse_expect(const Node& m) {
   m.expect_map({"end_reached", "max_collisions", "max_cross_track_rms_m", "min_progress",
                 "min_laps", "max_end_stop_error_m", "goal_reached", "max_goal_error_m",
@@ -425,7 +443,7 @@ void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
   root.expect_map({"name", "description", "duration_s", "seed", "floor", "robot", "mission",
                    "lines", "marks", "obstacles", "walls", "terrain", "map", "localisation",
-                   "odometry", "expect"});
+                   "odometry", "tape_wear", "glare", "expect"});
   Scenario s;
   s.source_path = path;
   s.name = strict::parse_name(root.at("name"));
@@ -456,6 +474,8 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
     if (!s.map) n->expected("a map: (localisation runs on a known map)", "no map");
   }
   if (auto n = root.get("odometry")) s.odometry = parse_odometry(*n);
+  if (auto n = root.get("tape_wear")) s.tape_wear = parse_tape_wear(*n);
+  if (auto n = root.get("glare")) s.glare = parse_glare(*n);
   if (auto n = root.get("expect")) {
     s.expect = parse_expect(*n);
     // Localisation is scored only on a map, and a relocalisation only after a kidnap.

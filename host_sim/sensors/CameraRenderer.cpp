@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "host_sim/sensors/TapeWear.hpp"
 
 namespace carril::sim {
 
@@ -52,25 +53,14 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
     : scenario_(scenario),
       cam_(camera_mount(scenario.robot.camera)),
       noise_std_(scenario.robot.camera.noise_std),
-      rng_(seed ^ 0xCA3E4A11ULL) {
-  for (const LineSpec& l : scenario.lines) {
-    const double h = l.width_m / 2;
-    for (std::size_t i = 0; i + 1 < l.points.size(); ++i) {
-      const Vec2 a = l.points[i], b = l.points[i + 1];
-      const double len = std::hypot(b.x - a.x, b.y - a.y);
-      if (len < 1e-9) continue;
-      const double nx = -(b.y - a.y) / len * h, ny = (b.x - a.x) / len * h;
-      add_poly(
-          {{a.x + nx, a.y + ny}, {b.x + nx, b.y + ny}, {b.x - nx, b.y - ny}, {a.x - nx, a.y - ny}},
-          l.color);
-      // Round joins, so corners have no notch (only where the direction changes noticeably).
-      if (i + 2 < l.points.size()) {
-        const Vec2 c = l.points[i + 2];
-        const double cross = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
-        const double len2 = std::hypot(c.x - b.x, c.y - b.y);
-        if (len2 > 1e-9 && std::fabs(cross / (len * len2)) > 0.05)
-          add_poly(disk(b, h, 16), l.color);
-      }
+      rng_(seed ^ 0xCA3E4A11ULL),
+      effects_(scenario, seed) {
+  const std::vector<std::vector<TapeGap>> gaps = tape_gaps(scenario, seed);
+  for (std::size_t k = 0; k < scenario.lines.size(); ++k) {
+    const LineSpec& line = scenario.lines[k];
+    const Rgb color = faded(line.color, scenario.floor, scenario.tape_wear.fade);
+    for (const std::vector<Vec2>& points : tape_pieces(line.points, gaps[k])) {
+      add_tape(points, line.width_m, color);
     }
   }
   for (const MarkSpec& m : scenario.marks) add_poly(disk(m.center, m.radius_m, 48), m.color);
@@ -126,6 +116,26 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
   }
 }
 
+void CameraRenderer::add_tape(const std::vector<Vec2>& pts, double width_m, Rgb color) {
+  const double h = width_m / 2;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Vec2 a = pts[i], b = pts[i + 1];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    if (len < 1e-9) continue;
+    const double nx = -(b.y - a.y) / len * h, ny = (b.x - a.x) / len * h;
+    add_poly(
+        {{a.x + nx, a.y + ny}, {b.x + nx, b.y + ny}, {b.x - nx, b.y - ny}, {a.x - nx, a.y - ny}},
+        color);
+    // Round joins, so corners have no notch (only where the direction changes noticeably).
+    if (i + 2 < pts.size()) {
+      const Vec2 c = pts[i + 2];
+      const double cross = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
+      const double len2 = std::hypot(c.x - b.x, c.y - b.y);
+      if (len2 > 1e-9 && std::fabs(cross / (len * len2)) > 0.05) add_poly(disk(b, h, 16), color);
+    }
+  }
+}
+
 void CameraRenderer::add_poly(std::vector<Vec2> pts, Rgb color) {
   double cx = 0, cy = 0;
   for (const Vec2& p : pts) {
@@ -156,6 +166,8 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
     draw(poly.pts, poly.color, pose, img);
   }
 
+  if (effects_.any()) effects_.apply(frame, frames_);
+  ++frames_;
   if (noise_std_ > 0) {
     const std::size_t n = std::size_t(cs.width) * cs.height * 3;
     std::size_t k = std::uniform_int_distribution<std::size_t>(0, noise_.size() - 1)(rng_);

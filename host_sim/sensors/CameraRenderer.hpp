@@ -2,7 +2,8 @@
 // Renders what the robot's downward-tilted camera sees of the floor: floor colour with a light
 // world-fixed texture, tape, marks and obstacle footprints, by projecting their ground polygons
 // through the camera model (no per-pixel warp), with optional Gaussian pixel noise. Output is the
-// real driver's frame type.
+// real driver's frame type. Worn tape (gaps, a faded colour: TapeWear.hpp), exposure and glare
+// (CameraEffects.hpp) come from the scenario.
 //
 // The texture: one speckle per kSpeckleCell-metre floor cell, its place, size and shade drawn
 // from a hash of the cell (the same floor in every run). A speckle's colour is the floor colour
@@ -18,6 +19,7 @@
 #include "firmware/perception/CameraModel.hpp"
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/sensors/CameraEffects.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
@@ -36,6 +38,8 @@ class CameraRenderer {
     double cx, cy, r;  // bounding circle, for culling
   };
   void add_poly(std::vector<Vec2> pts, Rgb color);
+  // A stretch of tape along `pts` (quads with round joins where it turns).
+  void add_tape(const std::vector<Vec2>& pts, double width_m, Rgb color);
   // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
   void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
   void draw_texture(const Pose2& pose, cv::Mat& img);
@@ -51,6 +55,8 @@ class CameraRenderer {
   double noise_std_;
   std::vector<std::int16_t> noise_;  // precomputed N(0, std) samples
   std::mt19937_64 rng_;
+  CameraEffects effects_;  // exposure and glare
+  std::uint64_t frames_ = 0;
 };
 
 // The firmware configuration's own mapping, so the rendered image is the one it expects.

@@ -27,7 +27,8 @@ class ClosestHit : public b2RayCastCallback {
 LidarSim::LidarSim(const LidarSpec& spec, std::uint64_t seed)
     : spec_(spec),
       rng_(seed ^ 0x1D4A5ULL),
-      noise_(0.0, spec.noise_std_m > 0 ? spec.noise_std_m : 1.0) {}
+      noise_(0.0, spec.noise_std_m > 0 ? spec.noise_std_m : 1.0),
+      drop_rng_(seed ^ 0xD409B0ULL) {}
 
 void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
   const Pose2 p = world.pose();
@@ -55,6 +56,9 @@ void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
       double d = double(hit.best) * spec_.range_max_m;
       if (spec_.noise_std_m > 0) d += noise_(rng_);
       r = float(std::max(d, spec_.range_min_m));
+    }
+    if (spec_.dropout > 0.0 && drop_(drop_rng_) < spec_.dropout) {
+      r = std::numeric_limits<float>::infinity();
     }
     out.ranges_m[std::size_t(i)] = r;
   }

@@ -1,6 +1,7 @@
 #pragma once
 // 2D lidar by Box2D ray casts from the mount pose; ranges get Gaussian noise. A beam with no hit
-// within range_max reports +inf (the convention real drivers use for "nothing seen").
+// within range_max reports +inf (the convention real drivers use for "nothing seen"), as does a
+// dropped beam (LidarSpec::dropout: each beam of each scan lost with that probability).
 #include <cstdint>
 #include <random>
 
@@ -19,6 +20,8 @@ class LidarSim {
   LidarSpec spec_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> noise_;
+  std::mt19937_64 drop_rng_;  // its own: dropping beams does not move the noise's draws
+  std::uniform_real_distribution<double> drop_{0.0, 1.0};
 };
 
 }  // namespace carril::sim

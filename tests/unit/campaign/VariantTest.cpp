@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -143,6 +144,56 @@ TEST(VariantTest, AMapPathBecomesAbsolute) {
       << t.text;
   const LoadResult r = load_scenario_text(t.text, "/tmp/elsewhere/variant.yaml", kRobots);
   EXPECT_TRUE(r.ok) << r.error;
+}
+
+TEST(VariantTest, TheSensorAndFloorPerturbationsLoadStrictly) {
+  const CampaignSpec s = spec_of(
+      "name: t\nseed: 2\nscenarios: [../corners.yaml]\nvariants: 6\n"
+      "perturbations:\n"
+      "  tape_gaps_per_m: {uniform: [0, 0.5]}\n"
+      "  tape_gap_length_m: {fixed: 0.12}\n"
+      "  tape_fade: {uniform: [0, 0.4]}\n"
+      "  floor_brightness: {uniform: [0.7, 1.3]}\n"
+      "  camera_exposure: {uniform: [0.8, 1.2]}\n"
+      "  glare_intensity: {uniform: [0, 80]}\n"
+      "  lidar_dropout: {uniform: [0, 0.1]}\n"
+      "  extra_obstacles: {fixed: 3}\n");
+  const LoadResult base = load_scenario(s.scenarios[0], kRobots);
+  ASSERT_TRUE(base.ok) << base.error;
+  for (std::uint64_t i = 0; i < s.variant_count(); ++i) {
+    const Variant v = make_variant(s, i);
+    const ScenarioText t = variant_scenario(s, v);
+    ASSERT_TRUE(t.ok) << t.error;
+    const LoadResult r = load_scenario_text(t.text, "variant.yaml", kRobots);
+    ASSERT_TRUE(r.ok) << r.error << "\n" << t.text;
+    const Scenario& sc = r.scenario;
+    // extra_obstacles comes first in perturbation_kinds() after the jitter.
+    EXPECT_NEAR(sc.tape_wear.gaps_per_m, v.values[1], 1e-6);
+    EXPECT_NEAR(sc.tape_wear.gap_length_m, 0.12, 1e-9);
+    EXPECT_NEAR(sc.tape_wear.fade, v.values[3], 1e-6);
+    EXPECT_NEAR(double(sc.floor.r), std::round(90.0 * v.values[4]), 0.5);
+    EXPECT_NEAR(sc.robot.camera.exposure, v.values[5], 1e-6);
+    EXPECT_NEAR(sc.glare.intensity, v.values[6], 1e-6);
+    EXPECT_NEAR(sc.robot.lidar.dropout, v.values[7], 1e-6);
+    // Three more cylinders, off the tape and away from the start.
+    ASSERT_EQ(sc.obstacles.size(), base.scenario.obstacles.size() + 3);
+    for (std::size_t k = base.scenario.obstacles.size(); k < sc.obstacles.size(); ++k) {
+      const ObstacleSpec& o = sc.obstacles[k];
+      EXPECT_EQ(o.shape, ObstacleShape::Cylinder);
+      double d = 1e9;
+      const auto& pts = sc.lines[0].points;
+      for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+        const double dx = pts[j + 1].x - pts[j].x, dy = pts[j + 1].y - pts[j].y;
+        const double t = std::clamp(
+            ((o.center.x - pts[j].x) * dx + (o.center.y - pts[j].y) * dy) / (dx * dx + dy * dy),
+            0.0, 1.0);
+        d = std::min(d, std::hypot(o.center.x - pts[j].x - t * dx, o.center.y - pts[j].y - t * dy));
+      }
+      EXPECT_GE(d, o.radius_m + 0.5 - 1e-6);
+      EXPECT_GE(std::hypot(o.center.x - sc.robot.start.x, o.center.y - sc.robot.start.y),
+                o.radius_m + 1.0 - 1e-6);
+    }
+  }
 }
 
 }  // namespace

@@ -66,5 +66,29 @@ TEST(LidarSimTest, NoiseHasTheConfiguredSpread) {
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.02, 0.004);
 }
 
+TEST(LidarSimTest, DroppedBeamsReportNoReturnAtTheRateAsked) {
+  Scenario s = test::box_scenario("pioneer3at");
+  s.robot.lidar.noise_std_m = 0.0;
+  SimWorld world(s);
+  auto scan = std::make_unique<hal::LaserScan>();
+  LidarSim clean(s.robot.lidar, 1);
+  clean.scan(world, *scan);
+  const float before = scan->ranges_m[180];
+  ASSERT_FALSE(std::isinf(before));
+  s.robot.lidar.dropout = 0.3;
+  LidarSim lossy(s.robot.lidar, 1);
+  // Beam 180 sees the box: over 200 scans it is lost about 30 % of the time, else unchanged.
+  int lost = 0;
+  for (int k = 0; k < 200; ++k) {
+    lossy.scan(world, *scan);
+    if (std::isinf(scan->ranges_m[180])) {
+      ++lost;
+    } else {
+      EXPECT_FLOAT_EQ(scan->ranges_m[180], before);
+    }
+  }
+  EXPECT_NEAR(lost / 200.0, 0.3, 0.1);
+}
+
 }  // namespace
 }  // namespace carril::sim

@@ -1,0 +1,59 @@
+#include "host_sim/sensors/CameraEffects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace carril::sim {
+
+CameraEffects::CameraEffects(const Scenario& scenario, std::uint64_t seed)
+    : exposure_(scenario.robot.camera.exposure),
+      intensity_(scenario.glare.intensity),
+      radius_px_(scenario.glare.radius_px),
+      period_s_(scenario.glare.period_s),
+      rate_hz_(scenario.robot.camera.rate_hz) {
+  for (int i = 0; i < 256; ++i) {
+    lut_[std::size_t(i)] =
+        static_cast<std::uint8_t>(std::clamp(std::lround(double(i) * exposure_), 0L, 255L));
+  }
+  // Its own generator: the glare's row does not move any other draw of the run.
+  std::mt19937_64 rng(seed ^ 0x61A4EULL);
+  v_ = std::uniform_real_distribution<double>(0.15, 0.85)(rng) * scenario.robot.camera.height;
+}
+
+double CameraEffects::glare_u(std::uint64_t frame_index, int width) const {
+  const double t = double(frame_index) / rate_hz_;
+  const double phase = std::fmod(t, period_s_) / period_s_;
+  const double f = phase < 0.5 ? 2.0 * phase : 2.0 - 2.0 * phase;  // across, then back
+  return f * double(width - 1);
+}
+
+void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) const {
+  const int w = frame.width, h = frame.height;
+  std::uint8_t* d = frame.bgr.data();
+  if (exposure_ != 1.0) {
+    const std::size_t n = std::size_t(w) * std::size_t(h) * 3;
+    for (std::size_t i = 0; i < n; ++i) d[i] = lut_[d[i]];
+  }
+  if (intensity_ <= 0.0) return;
+  const double uc = glare_u(frame_index, w), vc = v_;
+  const double reach = 3.0 * radius_px_, k = -0.5 / (radius_px_ * radius_px_);
+  const int u0 = std::max(0, int(std::floor(uc - reach))),
+            u1 = std::min(w - 1, int(std::ceil(uc + reach)));
+  const int v0 = std::max(0, int(std::floor(vc - reach))),
+            v1 = std::min(h - 1, int(std::ceil(vc + reach)));
+  for (int v = v0; v <= v1; ++v) {
+    const double dv2 = (v - vc) * (v - vc);
+    std::uint8_t* row = d + std::size_t(v) * std::size_t(w) * 3;
+    for (int u = u0; u <= u1; ++u) {
+      const int add = int(std::lround(intensity_ * std::exp(k * ((u - uc) * (u - uc) + dv2))));
+      if (add == 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        std::uint8_t& p = row[std::size_t(u) * 3 + std::size_t(c)];
+        p = static_cast<std::uint8_t>(std::min(255, int(p) + add));
+      }
+    }
+  }
+}
+
+}  // namespace carril::sim

@@ -1,0 +1,31 @@
+#pragma once
+// What the light does to a rendered camera frame: exposure (every level times a gain, clipped at
+// 255) and glare (GlareSpec: a bright Gaussian patch that sweeps across the image and back once
+// per period, at a row drawn from the seed). Applied after the scene is drawn and before the
+// pixel noise; nothing is done for exposure 1 and no glare, so such runs are unchanged.
+#include <array>
+#include <cstdint>
+
+#include "hal/Types.hpp"
+#include "host_sim/scenario/Scenario.hpp"
+
+namespace carril::sim {
+
+class CameraEffects {
+ public:
+  CameraEffects(const Scenario& scenario, std::uint64_t seed);
+  bool any() const { return exposure_ != 1.0 || intensity_ > 0.0; }
+  // Applies to `frame`, the frame'th of the run (its time is frame / the camera's rate).
+  void apply(hal::CameraFrame& frame, std::uint64_t frame_index) const;
+  // Where the glare's centre is in frame `frame_index` [px].
+  double glare_u(std::uint64_t frame_index, int width) const;
+  double glare_v() const { return v_; }
+
+ private:
+  double exposure_ = 1.0;
+  std::array<std::uint8_t, 256> lut_{};
+  double intensity_ = 0.0, radius_px_ = 60.0, period_s_ = 4.0, rate_hz_ = 30.0;
+  double v_ = 0.0;  // the glare's row [px]
+};
+
+}  // namespace carril::sim
