@@ -141,6 +141,7 @@ const std::vector<PerturbationKind>& perturbation_kinds() {
       {"tape_gap_length_m", 0.005, 2.0, "m", "tape_wear.gap_length_m"},
       {"tape_fade", 0.0, 1.0, "-", "tape_wear.fade"},
       {"floor_brightness", 0.5, 1.5, "-", "floor.color times this (each channel at most 255)"},
+      {"floor_speckle", 0.0, 0.3, "-", "floor.speckle"},
       {"camera_exposure", 0.25, 4.0, "-", "robot.camera.exposure"},
       {"glare_intensity", 0.0, 255.0, "grey levels", "glare.intensity"},
       {"lidar_dropout", 0.0, 0.9, "-", "robot.lidar.dropout"},

@@ -193,6 +193,8 @@ void apply(const std::string& key, double value, const Variant& v, const Campaig
       out.push_back(std::to_string(std::lround(std::min(255.0, base * value))));
     }
     root["floor"]["color"] = out;
+  } else if (key == "floor_speckle") {
+    root["floor"]["speckle"] = text(value);
   } else if (key == "camera_exposure") {
     root["robot"]["camera"]["exposure"] = text(value);
   } else if (key == "glare_intensity") {

@@ -180,6 +180,7 @@ struct Scenario {
   double duration_s = 60.0;
   std::uint64_t seed = 0;
   Rgb floor{128, 128, 128};
+  double floor_speckle = 0.15;  // the texture's shades: the floor's colour x (1 +- 1/3..1 of this)
   RobotSpec robot;
   MissionSpec mission;
   std::vector<LineSpec> lines;

@@ -138,7 +138,7 @@ void check_colours(const Node& root, const Scenario& s) {
   auto floor_check = [&](const fw::ColorThreshold& t, const char* key, const std::string& name) {
     Rgb shade;
     double k = 1.0;
-    if (!floor_shade_in(t, s.floor, shade, k)) return;
+    if (!floor_shade_in(t, s.floor, s.floor_speckle, shade, k)) return;
     const auto n = mission.get(key);
     const Node where = n ? *n : mission.child_path(key);
     where.expected("a colour the detector tells from " + floor_text + " (its shade x" +

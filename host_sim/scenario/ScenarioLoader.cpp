@@ -451,8 +451,9 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   s.duration_s = root.at("duration_s").number(Range::closed(0.1, 86400.0));
   if (auto n = root.get("seed")) s.seed = n->unsigned_integer();
   if (auto n = root.get("floor")) {
-    n->expect_map({"color"});
+    n->expect_map({"color", "speckle"});
     s.floor = parse_color(n->at("color"));
+    if (auto k = n->get("speckle")) s.floor_speckle = k->number(Range::closed(0.0, 0.3));
   }
   parse_robot(root.at("robot"), robots_dir, s.robot);
   loader::parse_mission(root.at("mission"), s.robot, loader::MissionSchema{}, s.mission);

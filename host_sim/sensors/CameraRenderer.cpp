@@ -208,9 +208,9 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
       if (rx < texture_x0_ - 0.1 || rx > texture_x1_ + 0.1 || std::fabs(ry) > texture_y_ + 0.1) {
         continue;
       }
-      // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15.
+      // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15 at the default speckle.
       const double u = unit(h, 48);
-      const double f = u < 0.5 ? kFloorShadeMin + 0.2 * u : 1.05 + 0.2 * (u - 0.5);
+      const double f = speckle_shade(scenario_.floor_speckle, u);
       const double a = 3.0 * unit(h, 8);
       const double ca = std::cos(a) * half, sa = std::sin(a) * half;
       speckle_.assign({{cx + ca - sa, cy + sa + ca},

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "host_sim/scenario/ColorCheck.hpp"
 #include "host_sim/scenario/ScenarioLoader.hpp"
 
 namespace carril::sim {
@@ -28,6 +29,33 @@ TEST(ScenarioPerturbationsTest, DefaultsChangeNothing) {
   EXPECT_EQ(r.scenario.glare.intensity, 0.0);
   EXPECT_EQ(r.scenario.robot.camera.exposure, 1.0);
   EXPECT_EQ(r.scenario.robot.lidar.dropout, 0.0);
+  EXPECT_EQ(r.scenario.floor_speckle, 0.15);
+}
+
+TEST(ScenarioPerturbationsTest, TheFloorSpeckleKeepsTheDefaultShadesAndScales) {
+  // The default's shades are the ones scenarios were always rendered with.
+  EXPECT_EQ(speckle_shade(0.15, 0.0), 0.85);
+  EXPECT_EQ(speckle_shade(0.15, 0.25), 0.85 + 0.2 * 0.25);
+  EXPECT_EQ(speckle_shade(0.15, 0.75), 1.05 + 0.2 * 0.25);
+  // Another speckle: [1 - s, 1 - s/3) and [1 + s/3, 1 + s).
+  EXPECT_DOUBLE_EQ(speckle_shade(0.3, 0.0), 0.7);
+  EXPECT_NEAR(speckle_shade(0.3, 0.4999999), 0.9, 1e-6);
+  EXPECT_DOUBLE_EQ(speckle_shade(0.3, 0.5), 1.1);
+  EXPECT_NEAR(speckle_shade(0.3, 0.9999999), 1.3, 1e-6);
+  EXPECT_DOUBLE_EQ(speckle_shade(0.0, 0.2), 1.0);
+  const LoadResult r = load("floor: {color: [90, 90, 90], speckle: 0.25}\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_DOUBLE_EQ(r.scenario.floor_speckle, 0.25);
+}
+
+TEST(ScenarioPerturbationsTest, TheColourCheckHoldsForTheSpeckleGiven) {
+  // White tape is seen at a value of 170 and more. A floor of (140, 140, 140) is told from it at
+  // the default speckle (its lightest shade x1.15 = 161), not at 0.3 (x1.3 = 182).
+  const LoadResult ok = load("floor: {color: [140, 140, 140]}\n");
+  EXPECT_TRUE(ok.ok) << ok.error;
+  const LoadResult r = load("floor: {color: [140, 140, 140], speckle: 0.3}\n");
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("x1.3"), std::string::npos) << r.error;
 }
 
 TEST(ScenarioPerturbationsTest, TheKeysLoad) {
@@ -55,6 +83,7 @@ void expect_error(const LoadResult& r, const std::string& key, const std::string
 
 TEST(ScenarioPerturbationsTest, BadValuesNameTheKey) {
   expect_error(load("tape_wear: {gaps_per_m: 6}\n"), "tape_wear.gaps_per_m", "[0, 5]");
+  expect_error(load("floor: {color: [90, 90, 90], speckle: 0.4}\n"), "floor.speckle", "[0, 0.3]");
   expect_error(load("tape_wear: {gap_length_m: 0}\n"), "tape_wear.gap_length_m", "[0.005, 2]");
   expect_error(load("tape_wear: {fade: 1.5}\n"), "tape_wear.fade", "[0, 1]");
   expect_error(load("tape_wear: {gaps: 3}\n"), "tape_wear.gaps", "");
