@@ -161,7 +161,7 @@ SubmitResult submit_to_slurm(const CampaignSpec& spec, const SlurmOptions& opt) 
   }
   // --parsable prints "jobid" or "jobid;cluster".
   std::string id = trimmed(read_text(out));
-  id = id.substr(0, id.find(';'));
+  if (const std::size_t semi = id.find(';'); semi != std::string::npos) id.resize(semi);
   if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
     r.error = opt.sbatch + ": expected a job id from --parsable, got \"" + id + "\"";
     return r;
