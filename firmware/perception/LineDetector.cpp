@@ -43,7 +43,7 @@ int normalised_decimation(int d) {
 // interleaved row, which the compiler vectorises), then one table lookup per block.
 template <int D>
 void classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
-              std::uint8_t* q, const BitImage& line, const BitImage& end) {
+              std::uint8_t* q, std::uint8_t* verdict, const BitImage& line, const BitImage& end) {
   constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);  // block sum to 6 bits
   const int row_bytes = width * 3;
   const int n = row_bytes - 3 * (D - 1);  // positions whose block lies inside the row
@@ -66,22 +66,22 @@ void classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::
         q[i] = static_cast<std::uint8_t>(sum >> kShift);
       }
     }
-    // One lookup per block; eight table bytes are gathered into a word and their two mask bits
-    // packed with a multiply (bit 0 of byte i lands in bit 56 + i).
+    // One lookup per block into a row of verdict bytes (a tight loop, no shifts by a variable),
+    // then the two mask bits of eight bytes at a time packed with a multiply (bit 0 of byte i
+    // lands in bit 56 + i). `verdict` is padded to whole words with zeros written at construction.
+    for (int x = 0; x < line.width; ++x) {
+      const std::uint8_t* c3 = q + 3 * D * x;
+      verdict[x] = lut[color_lut::index(c3[0], c3[1], c3[2])];
+    }
     constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
     std::uint64_t* lr = line.row(by);
     std::uint64_t* er = end.row(by);
     for (int k = 0; k < line.stride; ++k) {
       std::uint64_t lw = 0, ew = 0;
       for (int g = 0; g < 8; ++g) {
-        const int x0 = 64 * k + 8 * g;
-        if (x0 >= line.width) break;
-        const int cnt = line.width - x0 < 8 ? line.width - x0 : 8;
+        const std::uint8_t* b8 = verdict + 64 * k + 8 * g;
         std::uint64_t bytes = 0;
-        for (int i = 0; i < cnt; ++i) {
-          const std::uint8_t* c3 = q + 3 * D * (x0 + i);
-          bytes |= std::uint64_t{lut[color_lut::index(c3[0], c3[1], c3[2])]} << (8 * i);
-        }
+        for (int i = 0; i < 8; ++i) bytes |= std::uint64_t{b8[i]} << (8 * i);
         lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
         ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
       }
@@ -100,6 +100,7 @@ struct LineDetector::Buffers {
         lut(std::make_unique<std::uint8_t[]>(color_lut::kSize)),
         vsum(std::make_unique<std::uint16_t[]>(std::size_t(width) * 3)),
         q(std::make_unique<std::uint8_t[]>(std::size_t(width) * 3)),
+        m(std::make_unique<std::uint8_t[]>(std::size_t(stride) * 64)),
         labeler(cells_h, max_runs(cells_w, cells_h)),
         refiner(width, height, d) {
     BitImage* images[] = {&line, &end, &tmp};
@@ -116,6 +117,7 @@ struct LineDetector::Buffers {
   std::unique_ptr<std::uint8_t[]> lut;
   std::unique_ptr<std::uint16_t[]> vsum;  // one row of vertical block sums
   std::unique_ptr<std::uint8_t[]> q;      // one row of quantised block sums
+  std::unique_ptr<std::uint8_t[]> m;      // one row of table verdicts, whole words, zero padded
   BitImage line, end, tmp;
   RunLabeler labeler;
   BlobRefiner refiner;
@@ -219,11 +221,11 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   Buffers& bf = *buf_;
   const std::uint8_t* img = frame.bgr.data();
   if (d == 2) {
-    classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end);
   } else if (d == 4) {
-    classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end);
   } else {
-    classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end);
   }
   // Noise cleanup: an opening of about 5 x 5 px, as the thesis's two erosions and two dilations.
   const int rounds = d == 1 ? 2 : 1;
