@@ -11,6 +11,8 @@
 //  1. Decimate: each d x d block of the frame is averaged (the average is the blur) and its colour
 //     looked up in a table built at construction that holds the HSV verdict for the tape and the
 //     end-mark windows (ColorClassifier). Both masks come out of one pass, packed 64 cells a word.
+//     While the tape is tracked, only a window of columns round it is classified, with sampled
+//     blocks round the window proving that the whole frame's masks would be the same (detect()).
 //  2. Clean: one 3x3 erosion and one 3x3 dilation of the decimated masks (at d = 2 a cell is
 //     2 px, so this is the full-resolution two-and-two; at d = 1 it is done twice, as OpenCV).
 //  3. Label the 8-connected components by runs (BlobLabeler) and take the largest ones.
