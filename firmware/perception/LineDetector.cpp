@@ -11,6 +11,8 @@
 //  1. Decimate: each d x d block of the frame is averaged (the average is the blur) and its colour
 //     looked up in a table built at construction that holds the HSV verdict for the tape and the
 //     end-mark windows (ColorClassifier). Both masks come out of one pass, packed 64 cells a word.
+//     While the tape is tracked, only a window of columns round it is classified, with sampled
+//     blocks round the window proving that the whole frame's masks would be the same (detect()).
 //  2. Clean: one 3x3 erosion and one 3x3 dilation of the decimated masks (at d = 2 a cell is
 //     2 px, so this is the full-resolution two-and-two; at d = 1 it is done twice, as OpenCV).
 //  3. Label the 8-connected components by runs (BlobLabeler) and take the largest ones.
@@ -41,47 +43,90 @@ int normalised_decimation(int d) {
 // Classifies every d x d block of the frame into the two masks. Per row of blocks: the block
 // sums of each channel, quantised to 6 bits, for every byte position (straight loops over the
 // interleaved row, which the compiler vectorises), then one table lookup per block.
+// Tracking window: only block columns x0..x1 are classified into the masks, the rest is left
+// clear. Round it, every kSampleEvery-th block (columns 0, 3, 6, ...) of every kSampleEvery-th
+// row of blocks is looked at, from the image's left edge to x0 + 1 and from x1 - 1 to its right
+// edge, and a block of either colour there ends the pass (false): the caller then classifies the
+// frame whole. The cleanup (an opening) keeps the union of the 3x3 (at d = 1, 5x5) squares of
+// cells that are all set; every such square not inside the window holds a sampled block. So a
+// pass that returns true gives the whole frame's cleaned-up masks exactly.
+constexpr int kSampleEvery = 3;
+
+// The table verdict of block (x, by), summed and quantised as classify does.
 template <int D>
-void classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
-              std::uint8_t* q, const BitImage& line, const BitImage& end) {
+std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::uint8_t* lut, int x,
+                           int by) {
+  constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);
+  unsigned sum[3] = {0, 0, 0};
+  for (int j = 0; j < D; ++j) {
+    const std::uint8_t* p =
+        img + (std::size_t(by) * D + std::size_t(j)) * std::size_t(row_bytes) + 3 * D * x;
+    for (int i = 0; i < D; ++i) {
+      for (int c = 0; c < 3; ++c) sum[c] += p[3 * i + c];
+    }
+  }
+  return lut[color_lut::index(sum[0] >> kShift, sum[1] >> kShift, sum[2] >> kShift)];
+}
+
+template <int D>
+bool classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
+              std::uint8_t* q, std::uint8_t* verdict, const BitImage& line, const BitImage& end,
+              int x0, int x1) {
   constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);  // block sum to 6 bits
   const int row_bytes = width * 3;
   const int n = row_bytes - 3 * (D - 1);  // positions whose block lies inside the row
+  const bool windowed = x0 > 0 || x1 < line.width - 1;
+  const int vbytes = 64 * line.stride;
+  for (int i = 0; i < vbytes; ++i) verdict[i] = 0;
+  const int c0 = x0, c1 = x1;
+  const int i0 = 3 * D * c0, i1 = 3 * D * (c1 + 1) < n ? 3 * D * (c1 + 1) : n;
+  const int vs1 = i1 + 3 * (D - 1);  // <= row_bytes
+  // The samples first: a pass that fails costs only them.
+  for (int by = 0; windowed && by < line.height; by += kSampleEvery) {
+    std::uint8_t outside = 0;
+    for (int x = 0; x <= x0 + 1 && x < line.width; x += kSampleEvery) {
+      outside |= block_verdict<D>(img, row_bytes, lut, x, by);
+    }
+    for (int x = (x1 + 1) / kSampleEvery * kSampleEvery; x < line.width; x += kSampleEvery) {
+      outside |= block_verdict<D>(img, row_bytes, lut, x, by);
+    }
+    if (outside != 0) return false;
+  }
   for (int by = 0; by < line.height; ++by) {
     const std::uint8_t* p = img + std::size_t(by) * D * std::size_t(row_bytes);
     if constexpr (D == 2) {
       const std::uint8_t* p1 = p + row_bytes;
-      for (int i = 0; i < n; ++i) {
+      for (int i = i0; i < i1; ++i) {
         q[i] = static_cast<std::uint8_t>((p[i] + p1[i] + p[i + 3] + p1[i + 3]) >> kShift);
       }
     } else {
-      for (int i = 0; i < row_bytes; ++i) {
+      for (int i = i0; i < vs1; ++i) {
         unsigned sum = 0;
         for (int j = 0; j < D; ++j) sum += p[std::size_t(j) * std::size_t(row_bytes) + i];
         vsum[i] = static_cast<std::uint16_t>(sum);
       }
-      for (int i = 0; i < n; ++i) {
+      for (int i = i0; i < i1; ++i) {
         unsigned sum = 0;
         for (int m = 0; m < D; ++m) sum += vsum[i + 3 * m];
         q[i] = static_cast<std::uint8_t>(sum >> kShift);
       }
     }
-    // One lookup per block; eight table bytes are gathered into a word and their two mask bits
-    // packed with a multiply (bit 0 of byte i lands in bit 56 + i).
+    // One lookup per block into a row of verdict bytes (a tight loop, no shifts by a variable),
+    // then the two mask bits of eight bytes at a time packed with a multiply (bit 0 of byte i
+    // lands in bit 56 + i). `verdict` is zero outside x0..x1 and past the width.
+    for (int x = c0; x <= c1; ++x) {
+      const std::uint8_t* c3 = q + 3 * D * x;
+      verdict[x] = lut[color_lut::index(c3[0], c3[1], c3[2])];
+    }
     constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
     std::uint64_t* lr = line.row(by);
     std::uint64_t* er = end.row(by);
     for (int k = 0; k < line.stride; ++k) {
       std::uint64_t lw = 0, ew = 0;
       for (int g = 0; g < 8; ++g) {
-        const int x0 = 64 * k + 8 * g;
-        if (x0 >= line.width) break;
-        const int cnt = line.width - x0 < 8 ? line.width - x0 : 8;
+        const std::uint8_t* b8 = verdict + 64 * k + 8 * g;
         std::uint64_t bytes = 0;
-        for (int i = 0; i < cnt; ++i) {
-          const std::uint8_t* c3 = q + 3 * D * (x0 + i);
-          bytes |= std::uint64_t{lut[color_lut::index(c3[0], c3[1], c3[2])]} << (8 * i);
-        }
+        for (int i = 0; i < 8; ++i) bytes |= std::uint64_t{b8[i]} << (8 * i);
         lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
         ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
       }
@@ -89,6 +134,7 @@ void classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::
       er[k] = ew;
     }
   }
+  return true;
 }
 
 }  // namespace
@@ -100,6 +146,7 @@ struct LineDetector::Buffers {
         lut(std::make_unique<std::uint8_t[]>(color_lut::kSize)),
         vsum(std::make_unique<std::uint16_t[]>(std::size_t(width) * 3)),
         q(std::make_unique<std::uint8_t[]>(std::size_t(width) * 3)),
+        m(std::make_unique<std::uint8_t[]>(std::size_t(stride) * 64)),
         labeler(cells_h, max_runs(cells_w, cells_h)),
         refiner(width, height, d) {
     BitImage* images[] = {&line, &end, &tmp};
@@ -116,6 +163,7 @@ struct LineDetector::Buffers {
   std::unique_ptr<std::uint8_t[]> lut;
   std::unique_ptr<std::uint16_t[]> vsum;  // one row of vertical block sums
   std::unique_ptr<std::uint8_t[]> q;      // one row of quantised block sums
+  std::unique_ptr<std::uint8_t[]> m;      // one row of table verdicts, whole words, zero padded
   BitImage line, end, tmp;
   RunLabeler labeler;
   BlobRefiner refiner;
@@ -210,21 +258,70 @@ bool find_blobs(RunLabeler& lab, BlobRefiner& refiner, const hal::CameraFrame& f
 
 }  // namespace
 
+namespace {
+// Tracking window: the columns of the last frame's blobs (tape and end mark) widened by this
+// many pixels each side.
+constexpr int kWindowMarginPx = 48;
+
+}  // namespace
+
 bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   const int w = cam_.mount().width, h = cam_.mount().height;
   if (frame.width != w || frame.height != h) return false;
   // A camera outside what the HAL's frame can hold (or too small to decimate) is never served.
   if (w > hal::kMaxImageWidth || h > hal::kMaxImageHeight || w < 16 || h < 16) return false;
+  const int d = cfg_.decimation, cells_w = buf_->line.width;
+  bool windowed = cfg_.tracking && win_x1_ >= win_x0_;
+  // The window's pass is kept when the samples round it showed neither colour (its masks are then
+  // the whole frame's) and it found the tape; otherwise the frame is done whole.
+  if (windowed) windowed = detect_in(frame, win_x0_, win_x1_, out) && out.detected;
+  if (windowed) {
+    ++windowed_frames_;
+  } else {
+    detect_in(frame, 0, cells_w - 1, out);
+  }
+  // The next frame's window.
+  win_x0_ = 1;
+  win_x1_ = 0;
+  if (out.detected) {
+    int u0 = w, u1 = -1;
+    for (const Blob& b : out.blobs) {
+      u0 = b.u_min < u0 ? b.u_min : u0;
+      u1 = b.u_max > u1 ? b.u_max : u1;
+    }
+    if (out.end_detected) {
+      u0 = out.end_blob.u_min < u0 ? out.end_blob.u_min : u0;
+      u1 = out.end_blob.u_max > u1 ? out.end_blob.u_max : u1;
+    }
+    const int x0 = (u0 - kWindowMarginPx) / d, x1 = (u1 + kWindowMarginPx) / d;
+    win_x0_ = x0 > 0 ? x0 : 0;
+    win_x1_ = x1 < cells_w - 1 ? x1 : cells_w - 1;
+    // Not worth it when the window is most of the frame.
+    if (4 * (win_x1_ - win_x0_ + 1) > 3 * cells_w) {
+      win_x0_ = 1;
+      win_x1_ = 0;
+    }
+  }
+  return true;
+}
+
+bool LineDetector::detect_in(const hal::CameraFrame& frame, int x0, int x1, LineDetection& out) {
+  const int w = cam_.mount().width;
   const int d = cfg_.decimation;
   Buffers& bf = *buf_;
   const std::uint8_t* img = frame.bgr.data();
+  bool ok = false;
   if (d == 2) {
-    classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    ok = classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
+                     x0, x1);
   } else if (d == 4) {
-    classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    ok = classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
+                     x0, x1);
   } else {
-    classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.line, bf.end);
+    ok = classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
+                     x0, x1);
   }
+  if (!ok) return false;
   // Noise cleanup: an opening of about 5 x 5 px, as the thesis's two erosions and two dilations.
   const int rounds = d == 1 ? 2 : 1;
   for (const BitImage* m : {&bf.line, &bf.end}) {

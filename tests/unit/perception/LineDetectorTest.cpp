@@ -331,3 +331,66 @@ TEST(LineDetectorTest, NoHeapAllocationInsideDetect) {
 
 }  // namespace
 }  // namespace carril::test
+
+namespace carril::test {
+namespace {
+
+// The tracking window (LineDetector::detect): driving along a tape, a detector that tracks gives
+// exactly what a detector classifying every frame whole gives, with a second tape and an end
+// mark coming into view beside the tape and jerks that throw the tape out of the window.
+void check_tracking(int decimation) {
+  SCOPED_TRACE(decimation);
+  FrameCase fc{"track", "campero",
+               "{color: white, points: [[-5, 0], [10, 0]]}, "
+               "{color: white, width_m: 0.12, points: [[2.0, 0.45], [3.2, 0.45]]}",
+               "{color: yellow, x: 3.0, y: 0, radius_m: 0.15}", 0, 0, 0, 0, "white", true};
+  const sim::Scenario s = make_scenario(fc);
+  sim::CameraRenderer renderer(s, 1);
+  fw::LineDetectorConfig whole_cfg = config_for("white", decimation);
+  whole_cfg.tracking = false;
+  LineDetector tracked(renderer.model(), config_for("white", decimation));
+  LineDetector whole(renderer.model(), whole_cfg);
+  auto frame = std::make_unique<hal::CameraFrame>();
+  int seen = 0, two = 0, ends = 0;
+  const int frames = 150;
+  for (int i = 0; i < frames; ++i) {
+    // 0.5 m/s at 30 Hz, weaving across the tape, with a jerk of 0.3 rad every 20th frame that
+    // moves the tape out of the window the last frame left.
+    const double x = -0.5 + i / 60.0, y = 0.08 * std::sin(i / 9.0);
+    const double yaw = 0.25 * std::cos(i / 9.0) + (i % 20 == 10 ? 0.3 : 0.0);
+    renderer.render({x, y, yaw}, *frame);
+    frame->seq = std::uint32_t(i + 1);
+    LineDetection t, w;
+    ASSERT_TRUE(tracked.detect(*frame, t));
+    ASSERT_TRUE(whole.detect(*frame, w));
+    ASSERT_EQ(t.detected, w.detected) << i;
+    seen += w.detected ? 1 : 0;
+    two += w.blobs.size() > 1 ? 1 : 0;
+    ends += w.end_detected ? 1 : 0;
+    ASSERT_EQ(t.blobs.size(), w.blobs.size()) << i;
+    for (std::size_t k = 0; k < t.blobs.size(); ++k) {
+      EXPECT_EQ(t.blobs[k].area_px, w.blobs[k].area_px) << i;
+      EXPECT_EQ(t.blobs[k].centroid_px, w.blobs[k].centroid_px) << i;
+      EXPECT_EQ(t.blobs[k].angle_deg, w.blobs[k].angle_deg) << i;
+    }
+    EXPECT_EQ(t.confidence, w.confidence) << i;
+    EXPECT_EQ(t.centroid_floor, w.centroid_floor) << i;
+    EXPECT_EQ(t.angle_floor_rad, w.angle_floor_rad) << i;
+    ASSERT_EQ(t.end_detected, w.end_detected) << i;
+    if (t.end_detected) EXPECT_EQ(t.end_blob.centroid_px, w.end_blob.centroid_px) << i;
+  }
+  EXPECT_GT(seen, 120);  // the tape was in view nearly throughout
+  EXPECT_GT(two, 20);    // the second tape was in view
+  EXPECT_GT(ends, 10);   // and the end mark
+  // The window was in use, and gave way to whole frames when the view changed.
+  EXPECT_GT(tracked.windowed_frames(), std::uint32_t(frames / 3));
+  EXPECT_LT(tracked.windowed_frames(), std::uint32_t(frames - 10));
+  EXPECT_EQ(whole.windowed_frames(), 0U);
+}
+
+TEST(LineDetectorTest, TrackingWindowGivesTheWholeFramesBlobs) {
+  for (int d : {1, 2, 4}) check_tracking(d);
+}
+
+}  // namespace
+}  // namespace carril::test
