@@ -49,4 +49,9 @@ std::string write_temp_file(const std::string& name, std::string_view bytes) {
   return path;
 }
 
+void print_outcome(bool ok, const std::string& error) {
+  static const bool print = std::getenv("CARRIL_FUZZ_PRINT") != nullptr;
+  if (print) std::fprintf(stderr, "carril fuzz: %s\n", ok ? "ok" : error.c_str());
+}
+
 }  // namespace carril::fuzz

@@ -15,6 +15,10 @@ const std::string& temp_dir();
 // (the harness is broken, not the parser).
 std::string write_temp_file(const std::string& name, std::string_view bytes);
 
+// With CARRIL_FUZZ_PRINT set (running a target on single files: `fuzz_robot FILE`), prints
+// "ok" or the loader's message, to see what an input does.
+void print_outcome(bool ok, const std::string& error);
+
 // The input as text.
 inline std::string_view as_text(const unsigned char* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};

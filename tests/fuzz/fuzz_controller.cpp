@@ -15,6 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       carril::fuzz::write_temp_file("controller.yaml", carril::fuzz::as_text(data, size));
   carril::loader::ControllerSpec spec;
   std::string error;
-  if (!carril::loader::load_controller(path, robot, spec, error) && error.empty()) std::abort();
+  const bool ok = carril::loader::load_controller(path, robot, spec, error);
+  carril::fuzz::print_outcome(ok, error);
+  if (!ok && error.empty()) std::abort();
   return 0;
 }

@@ -23,6 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string path = carril::fuzz::write_temp_file("map.cem", bytes);
   const loader::ElevationMapLoad r = loader::load_elevation_map(path, 4096);
+  carril::fuzz::print_outcome(r.ok(), r.error);
   if (!r.ok()) return 0;
   if (r.map.cells.size() != std::size_t{r.map.nx} * r.map.ny) std::abort();
   // A loaded map writes back to the same bytes.

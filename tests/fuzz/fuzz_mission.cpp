@@ -15,6 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       carril::fuzz::write_temp_file("mission.yaml", carril::fuzz::as_text(data, size));
   carril::loader::MissionSpec mission;
   std::string error;
-  if (!carril::loader::load_mission(path, robot, mission, error) && error.empty()) std::abort();
+  const bool ok = carril::loader::load_mission(path, robot, mission, error);
+  carril::fuzz::print_outcome(ok, error);
+  if (!ok && error.empty()) std::abort();
   return 0;
 }

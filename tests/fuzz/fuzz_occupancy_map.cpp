@@ -22,6 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = carril::fuzz::write_temp_file("map.yaml", yaml);
   // A small buffer, so the "more cells than the buffer" path is reachable with small inputs.
   const carril::loader::OccupancyMapLoad r = carril::loader::load_occupancy_map(path, 4096);
+  carril::fuzz::print_outcome(r.ok(), r.error);
   if (!r.ok()) return 0;
   const auto& info = r.map.info;
   // The contract of a loaded map: as many cells as nx * ny, each a cost value.

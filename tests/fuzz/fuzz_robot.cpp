@@ -13,6 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       carril::fuzz::write_temp_file("robot.yaml", carril::fuzz::as_text(data, size));
   carril::loader::RobotSpec spec;
   std::string error;
-  if (!carril::loader::load_robot_preset(path, spec, error) && error.empty()) std::abort();
+  const bool ok = carril::loader::load_robot_preset(path, spec, error);
+  carril::fuzz::print_outcome(ok, error);
+  if (!ok && error.empty()) std::abort();
   return 0;
 }

@@ -14,6 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const std::string robots = CARRIL_SOURCE_DIR "/config/robots";
   const std::string text(carril::fuzz::as_text(data, size));
   const carril::sim::LoadResult r = carril::sim::load_scenario_text(text, path, robots);
+  carril::fuzz::print_outcome(r.ok, r.error);
   // The contract: a rejected file says why.
   if (!r.ok && r.error.empty()) std::abort();
   return 0;

@@ -16,10 +16,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   carril::loader::Tuning tuning;
   std::string error;
   if (!carril::loader::load_tuning(path, tuning, error)) {
+    carril::fuzz::print_outcome(false, error);
     if (error.empty()) std::abort();
     return 0;
   }
   carril::fw::FirmwareConfig c;
-  if (!carril::loader::apply_settings(tuning.settings, c, error) && error.empty()) std::abort();
+  const bool ok = carril::loader::apply_settings(tuning.settings, c, error);
+  carril::fuzz::print_outcome(ok, error);
+  if (!ok && error.empty()) std::abort();
   return 0;
 }
