@@ -1,5 +1,7 @@
 #include "loader/StrictYaml.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -69,6 +71,47 @@ NumParse parse_double(std::string_view s, double& out) {
   return NumParse::Ok;
 }
 
+// Reads the whole stream as yaml-cpp's LoadAll would, building nothing, and throws LoadError
+// where the parser stops making progress. yaml-cpp 0.7 (Debian 12's) has a parser that, on a
+// stray ',' outside any [ ] or { }, hands out the same empty document again and again without
+// reading on, so LoadAll never returns and grows its list of documents until memory runs out
+// (jbeder/yaml-cpp#1040, fixed upstream by #1319 after 0.8.0). Found by fuzzing (tests/fuzz).
+// Every real document, an empty one included, starts after the previous one's start, so a
+// document that starts where the previous one started is that loop.
+void check_parser_progress(const std::string& text, const std::string* file) {
+  class Starts : public YAML::EventHandler {
+   public:
+    void OnDocumentStart(const YAML::Mark& mark) override { last = mark; }
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  const std::string&) override {}
+    void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                         YAML::EmitterStyle::value) override {}
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                    YAML::EmitterStyle::value) override {}
+    void OnMapEnd() override {}
+    YAML::Mark last = YAML::Mark::null_mark();
+  };
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  Starts starts;
+  int previous = -1;
+  while (parser.HandleNextDocument(starts)) {
+    if (starts.last.pos == previous) {
+      const auto at = static_cast<std::size_t>(previous);
+      const std::string what =
+          at < text.size() ? "'" + std::string(1, text[at]) + "'" : "the end of the file";
+      throw LoadError(*file + ":" + std::to_string(starts.last.line + 1) +
+                      ": invalid YAML: unexpected " + what + " at column " +
+                      std::to_string(starts.last.column + 1) +
+                      " (a ',' belongs inside [ ] or { })");
+    }
+    previous = starts.last.pos;
+  }
+}
 }  // namespace
 
 bool Range::contains(double v) const {
@@ -305,6 +348,7 @@ std::string Node::one_of(std::initializer_list<std::string_view> allowed) const 
 Node parse_document(const std::string& text, const std::string* file) {
   std::vector<YAML::Node> docs;
   try {
+    check_parser_progress(text, file);
     docs = YAML::LoadAll(text);
   } catch (const YAML::ParserException& e) {
     std::string msg = *file;

@@ -3,7 +3,9 @@
 # scenario and CLI tests), then cross-build firmware/, hal/, loader/, the robot target and every
 # unit test that needs no simulator for aarch64 (GoogleTest built from Debian's sources) and run
 # them under qemu: one CTest per test binary, the allocation-counting test included, and the robot
-# target's smoke tests. Ends with one line: "carril: N passed, N failed".
+# target's smoke tests; then build the libFuzzer targets (the fuzz preset: clang, ASan, UBSan) and
+# run each one short and deterministically over its seeds and regressions (tests/fuzz, about
+# 20 s of runs). Ends with one line: "carril: N passed, N failed".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
@@ -19,6 +21,10 @@ echo "== aarch64: cross-build firmware, hal, loader, the robot target and the po
 cmake --preset aarch64 >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
 ctest --preset aarch64 2>&1 | tee "$logs/aarch64.log" || rc=1
+echo "== fuzz: build the libFuzzer targets (clang, ASan, UBSan); short deterministic runs"
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j"$jobs"
+ctest --preset fuzz -j"$jobs" 2>&1 | tee "$logs/fuzz.log" || rc=1
 # CTest's own summary: "N% tests passed, F tests failed out of T".
 total=0
 failed=0

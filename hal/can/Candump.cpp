@@ -15,6 +15,34 @@ int hex_value(char c) {
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
   return -1;
 }
+
+// Whole seconds a TimeNs holds with any microseconds added (2^63 ns: the year 2262).
+constexpr long long kMaxStampSec = 9'223'372'035LL;
+
+// The "(seconds.microseconds)" stamp at the start of a line (spaces before it allowed), as
+// candump writes it: up to 6 fraction digits, read as microseconds as can-utils' readers do. False
+// for anything else: a sign, a missing ')', or a time beyond TimeNs (its nanoseconds would
+// overflow). On success p is just past the ')'.
+bool parse_stamp(const char*& p, TimeNs& t_ns) {
+  while (*p == ' ' || *p == '\t') ++p;
+  if (*p++ != '(') return false;
+  long long sec = 0;
+  int digits = 0;
+  for (; *p >= '0' && *p <= '9'; ++p, ++digits) {
+    sec = sec * 10 + (*p - '0');
+    if (sec > kMaxStampSec) return false;
+  }
+  if (digits == 0 || *p++ != '.') return false;
+  long long usec = 0;
+  digits = 0;
+  for (; *p >= '0' && *p <= '9'; ++p, ++digits) {
+    if (digits == 6) return false;
+    usec = usec * 10 + (*p - '0');
+  }
+  if (digits == 0 || *p++ != ')') return false;
+  t_ns = TimeNs(sec) * 1'000'000'000 + TimeNs(usec) * 1000;
+  return true;
+}
 }  // namespace
 
 std::size_t format_candump(const CanFrame& f, TimeNs t_ns, const char* iface, char* buf,
@@ -43,10 +71,9 @@ std::size_t format_candump(const CanFrame& f, TimeNs t_ns, const char* iface, ch
 }
 
 bool parse_candump(const char* line, CanFrame& out, TimeNs& t_ns) {
-  long long sec = 0, usec = 0;
-  int used = 0;
-  if (std::sscanf(line, " (%lld.%6lld)%n", &sec, &usec, &used) != 2) return false;
-  const char* p = line + used;
+  const char* p = line;
+  TimeNs stamp = 0;
+  if (!parse_stamp(p, stamp)) return false;
   while (*p == ' ') ++p;
   while (*p != ' ' && *p != '\0') ++p;  // interface name
   while (*p == ' ') ++p;
@@ -82,7 +109,7 @@ bool parse_candump(const char* line, CanFrame& out, TimeNs& t_ns) {
   }
   if (f.error) f.extended = false;  // an error frame is reported, not an extended data frame
   out = f;
-  t_ns = TimeNs(sec) * 1'000'000'000 + TimeNs(usec) * 1000;
+  t_ns = stamp;
   return true;
 }
 

@@ -20,7 +20,7 @@ std::size_t format_candump(const CanFrame& f, TimeNs t_ns, const char* iface, ch
                            std::size_t n);
 
 // Reads one line back (the interface name is skipped). False, with `f` untouched, for a line
-// that is not a classic CAN frame in that format.
+// that is not a classic CAN frame in that format, or whose time is beyond TimeNs (year 2262).
 bool parse_candump(const char* line, CanFrame& f, TimeNs& t_ns);
 
 }  // namespace carril::hal

@@ -87,5 +87,26 @@ TEST(CandumpTest, MalformedLinesAreRefused) {
   EXPECT_EQ(t, 7);
 }
 
+// Found by fuzzing (tests/fuzz/candump/regressions/stamp_overflow): seconds beyond what TimeNs
+// holds overflowed the nanoseconds (signed overflow, UB). The stamp is now read digit by digit:
+// no sign, a ')' after it, at most the year 2262.
+TEST(CandumpTest, StampsOutsideTimeNsOrMalformedAreRefused) {
+  CanFrame f;
+  f.id = 0x123;
+  TimeNs t = 7;
+  for (const char* bad :
+       {"(170000000000000.5) can0 20000040#0000000000000000", "(9223372036.000000) vcan0 123#00",
+        "(-1.000000) vcan0 123#00", "(+1.000000) vcan0 123#00", "(1.000000 vcan0 123#00",
+        "(1.0000001) vcan0 123#00", "(.000001) vcan0 123#00", "(1.) vcan0 123#00"}) {
+    EXPECT_FALSE(parse_candump(bad, f, t)) << bad;
+  }
+  EXPECT_EQ(f.id, 0x123U);  // untouched
+  EXPECT_EQ(t, 7);
+  ASSERT_TRUE(parse_candump("(9223372035.999999) vcan0 123#00", f, t));
+  EXPECT_EQ(t, TimeNs{9'223'372'035'999'999'000});
+  ASSERT_TRUE(parse_candump(" (1.5) vcan0 123#00", f, t));  // microseconds, as can-utils reads
+  EXPECT_EQ(t, TimeNs{1'000'005'000});
+}
+
 }  // namespace
 }  // namespace carril::hal
