@@ -29,6 +29,7 @@ copy_all("robot", "config/robots/*.yaml")
 copy_all("mission", "config/missions/*.yaml")
 copy_all("controller", "config/controller/*.yaml")
 copy_all("tuning", "config/tuning/*.yaml")
+copy_all("campaign", "scenarios/campaigns/*.yaml")
 
 # --- Occupancy maps: YAML, the separator line, the PGM (fuzz_occupancy_map.cpp).
 MAP_YAML = """image: map.pgm
