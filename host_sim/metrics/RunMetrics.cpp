@@ -7,7 +7,7 @@ namespace carril::sim {
 namespace {
 
 // Progress tracking (see add()).
-constexpr double kWindowM = 3.0;          // how far ahead a rejoin may be credited [m]
+constexpr double kWindowM = 3.0;  // how far ahead a rejoin may be credited, plus the detour [m]
 constexpr double kOnPathM = 0.35;         // robot centre this close to the tape counts as on it [m]
 constexpr double kDoneRemainingM = 0.05;  // this little left of the path counts as all of it [m]
 // End mark stop.
@@ -34,6 +34,7 @@ double RunMetrics::add(const TickSample& s) {
 
   if (started_) {
     path_length_m_ += dist(last_xy_, q);
+    off_path_m_ += dist(last_xy_, q);
   } else {
     first_t_s_ = s.t_s;
   }
@@ -48,16 +49,20 @@ double RunMetrics::add(const TickSample& s) {
     // Progress: a monotone arc position s_m_. It only moves forward, to the nearest tape point
     // within the window [s, s + W] ahead, and only while the robot is on the tape (within
     // kOnPathM of that point). Leaving the tape for a detour advances nothing; rejoining up to W
-    // further on credits the whole skipped stretch; jumping to a far part of the path (a
-    // shortcut) finds nothing near within the window and is never credited.
+    // further on credits the whole skipped stretch, W being kWindowM plus what the robot drove
+    // since it was last on the tape (a long bypass round two obstacles is a bypass: it drove at
+    // least as far as it skips); jumping to a far part of the path (a shortcut, shorter than
+    // the stretch it skips) finds nothing near within the window and is never credited.
     const double len = path_.length_m();
     if (!started_) {
       s_m_ = path_.nearest(q).s_m;
       s0_m_ = s_m_;
     } else {
-      const double window = path_.closed() ? std::min(kWindowM, len / 2.0) : kWindowM;
+      const double reach = kWindowM + off_path_m_;
+      const double window = path_.closed() ? std::min(reach, len / 2.0) : reach;
       const PathPoint p = path_.nearest_in(q, s_m_, s_m_ + window);
       if (p.dist_m <= kOnPathM) {
+        off_path_m_ = 0.0;
         double delta = p.s_m - s_m_;
         // On a loop the window may wrap past the seam; legitimate advances are in [0, W] with
         // W <= L/2, so a clearly negative delta is a wrap and a tiny one is rounding.

@@ -56,6 +56,7 @@ class RunMetrics {
   double s_m_ = 0.0;         // current arc position on the path (wrapped if closed) [m]
   double advanced_m_ = 0.0;  // total in-order advance along the path [m]
   double s0_m_ = 0.0;        // arc position of the first sample's projection [m]
+  double off_path_m_ = 0.0;  // driven since the robot was last on the tape [m]
   double first_t_s_ = 0.0, last_t_s_ = 0.0;
   Vec2 last_xy_;
   double path_length_m_ = 0.0;

@@ -18,14 +18,27 @@ CameraEffects::CameraEffects(const Scenario& scenario, std::uint64_t seed)
   }
   // Its own generator: the glare's row does not move any other draw of the run.
   std::mt19937_64 rng(seed ^ 0x61A4EULL);
-  v_ = std::uniform_real_distribution<double>(0.15, 0.85)(rng) * scenario.robot.camera.height;
+  v_ = int(std::lround(std::uniform_real_distribution<double>(0.15, 0.85)(rng) *
+                       scenario.robot.camera.height));
+  if (intensity_ > 0.0) {
+    reach_ = int(std::ceil(3.0 * radius_px_));
+    const int side = 2 * reach_ + 1;
+    const double k = -0.5 / (radius_px_ * radius_px_);
+    patch_.resize(std::size_t(side) * std::size_t(side));
+    for (int dv = -reach_; dv <= reach_; ++dv) {
+      for (int du = -reach_; du <= reach_; ++du) {
+        patch_[std::size_t(dv + reach_) * std::size_t(side) + std::size_t(du + reach_)] =
+            static_cast<std::uint8_t>(std::lround(intensity_ * std::exp(k * (du * du + dv * dv))));
+      }
+    }
+  }
 }
 
-double CameraEffects::glare_u(std::uint64_t frame_index, int width) const {
+int CameraEffects::glare_u(std::uint64_t frame_index, int width) const {
   const double t = double(frame_index) / rate_hz_;
   const double phase = std::fmod(t, period_s_) / period_s_;
   const double f = phase < 0.5 ? 2.0 * phase : 2.0 - 2.0 * phase;  // across, then back
-  return f * double(width - 1);
+  return int(std::lround(f * double(width - 1)));
 }
 
 void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) const {
@@ -36,21 +49,17 @@ void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) co
     for (std::size_t i = 0; i < n; ++i) d[i] = lut_[d[i]];
   }
   if (intensity_ <= 0.0) return;
-  const double uc = glare_u(frame_index, w), vc = v_;
-  const double reach = 3.0 * radius_px_, k = -0.5 / (radius_px_ * radius_px_);
-  const int u0 = std::max(0, int(std::floor(uc - reach))),
-            u1 = std::min(w - 1, int(std::ceil(uc + reach)));
-  const int v0 = std::max(0, int(std::floor(vc - reach))),
-            v1 = std::min(h - 1, int(std::ceil(vc + reach)));
+  const int uc = glare_u(frame_index, w), vc = v_, side = 2 * reach_ + 1;
+  const int u0 = std::max(0, uc - reach_), u1 = std::min(w - 1, uc + reach_);
+  const int v0 = std::max(0, vc - reach_), v1 = std::min(h - 1, vc + reach_);
   for (int v = v0; v <= v1; ++v) {
-    const double dv2 = (v - vc) * (v - vc);
+    const std::uint8_t* add = &patch_[std::size_t(v - vc + reach_) * std::size_t(side)];
     std::uint8_t* row = d + std::size_t(v) * std::size_t(w) * 3;
     for (int u = u0; u <= u1; ++u) {
-      const int add = int(std::lround(intensity_ * std::exp(k * ((u - uc) * (u - uc) + dv2))));
-      if (add == 0) continue;
+      const int a = add[u - uc + reach_];
       for (int c = 0; c < 3; ++c) {
         std::uint8_t& p = row[std::size_t(u) * 3 + std::size_t(c)];
-        p = static_cast<std::uint8_t>(std::min(255, int(p) + add));
+        p = static_cast<std::uint8_t>(std::min(255, int(p) + a));
       }
     }
   }

@@ -5,6 +5,7 @@
 // pixel noise; nothing is done for exposure 1 and no glare, so such runs are unchanged.
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
@@ -17,15 +18,19 @@ class CameraEffects {
   bool any() const { return exposure_ != 1.0 || intensity_ > 0.0; }
   // Applies to `frame`, the frame'th of the run (its time is frame / the camera's rate).
   void apply(hal::CameraFrame& frame, std::uint64_t frame_index) const;
-  // Where the glare's centre is in frame `frame_index` [px].
-  double glare_u(std::uint64_t frame_index, int width) const;
-  double glare_v() const { return v_; }
+  // Where the glare's centre is in frame `frame_index` (whole pixels) [px].
+  int glare_u(std::uint64_t frame_index, int width) const;
+  int glare_v() const { return v_; }
 
  private:
   double exposure_ = 1.0;
   std::array<std::uint8_t, 256> lut_{};
   double intensity_ = 0.0, radius_px_ = 60.0, period_s_ = 4.0, rate_hz_ = 30.0;
-  double v_ = 0.0;  // the glare's row [px]
+  int v_ = 0;  // the glare's row [px]
+  // The patch's levels round its centre pixel, (2 reach + 1)^2, computed once: an exp() per
+  // pixel per frame would slow the simulator ten times.
+  int reach_ = 0;
+  std::vector<std::uint8_t> patch_;
 };
 
 }  // namespace carril::sim

@@ -102,6 +102,22 @@ TEST(RunMetricsTest, DetourThatRejoinsIsCredited) {
   EXPECT_DOUBLE_EQ(m.progress(), 1.0);
 }
 
+TEST(RunMetricsTest, ALongBypassIsCredited) {
+  // Round two obstacles: off the tape at 3 m, 1.2 m to the side for 5.5 m, back at 8.5 m (more
+  // than kWindowM ahead, but the robot drove further than it skipped).
+  const Scenario sc = with_path({{0, 0}, {20, 0}});
+  RunMetrics m(sc);
+  double t = 0.0;
+  m.add(at(t, 0, 0));
+  drive(m, t, {0, 0}, {3, 0});
+  drive(m, t, {3, 0}, {3, 1.2});
+  drive(m, t, {3, 1.2}, {8.5, 1.2});
+  drive(m, t, {8.5, 1.2}, {8.5, 0});
+  EXPECT_NEAR(m.progress(), 8.5 / 20.0, 0.01);
+  drive(m, t, {8.5, 0}, {20, 0});
+  EXPECT_DOUBLE_EQ(m.progress(), 1.0);
+}
+
 TEST(RunMetricsTest, ShortcutAcrossUIsNotCredited) {
   // Out along y=0 to x=5, across, back along y=2: 12 m.
   const Scenario sc = with_path({{0, 0}, {5, 0}, {5, 2}, {0, 2}});

@@ -54,25 +54,25 @@ TEST(CameraEffectsTest, GlareBrightensAPatchThatSweeps) {
   // campero's camera: 30 Hz, 640 x 480.
   const CameraEffects e(scenario("", "glare: {intensity: 100, radius_px: 20, period_s: 2}"), 3);
   ASSERT_TRUE(e.any());
-  const int v = int(std::lround(e.glare_v()));
+  const int v = e.glare_v();
   EXPECT_GE(v, 0.15 * 480 - 1);
   EXPECT_LE(v, 0.85 * 480 + 1);
   // Frame 15 (0.5 s, a quarter period): half way across.
-  EXPECT_NEAR(e.glare_u(15, 640), 319.5, 1e-9);
-  EXPECT_NEAR(e.glare_u(30, 640), 639.0, 1e-9);  // at the right edge after half a period
-  EXPECT_NEAR(e.glare_u(60, 640), 0.0, 1e-9);    // back after a period
+  EXPECT_EQ(e.glare_u(15, 640), 320);  // 319.5, rounded
+  EXPECT_EQ(e.glare_u(30, 640), 639);  // at the right edge after half a period
+  EXPECT_EQ(e.glare_u(60, 640), 0);    // back after a period
   auto f = grey(640, 480, 50);
   e.apply(*f, 15);
   const auto level = [&](int u, int vv) { return int(f->pixel(u, vv)[1]); };
-  // A Gaussian of 20 px round (319.5, glare_v).
+  // A Gaussian of 20 px round (320, glare_v).
   const auto expected = [&](int u, int vv) {
-    const double du = u - 319.5, dv = vv - e.glare_v();
+    const double du = u - 320.0, dv = vv - e.glare_v();
     return 50 + int(std::lround(100.0 * std::exp(-(du * du + dv * dv) / 800.0)));
   };
   EXPECT_EQ(level(320, v), expected(320, v));
-  EXPECT_GE(level(320, v), 148);
+  EXPECT_EQ(level(320, v), 150);
   EXPECT_EQ(level(340, v), expected(340, v));  // about one sigma off
-  EXPECT_NEAR(level(340, v), 50 + 100 * std::exp(-0.5), 3);
+  EXPECT_NEAR(level(340, v), 50 + 100 * std::exp(-0.5), 1);
   EXPECT_EQ(level(0, v), 50);
   EXPECT_EQ(level(320, v > 240 ? 0 : 479), 50);
   // Another seed, another row.
