@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 namespace carril::sim::campaign {
@@ -127,6 +128,18 @@ TEST(CampaignFileTest, AMissingFileIsNamed) {
   const CampaignLoad r = load_campaign("/nonexistent/campaign.yaml");
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.error.find("/nonexistent/campaign.yaml"), std::string::npos) << r.error;
+}
+
+TEST(CampaignFileTest, EveryShippedCampaignLoads) {
+  int count = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(CARRIL_SOURCE_DIR) +
+                                                           "/scenarios/campaigns")) {
+    if (e.path().extension() != ".yaml") continue;
+    ++count;
+    const CampaignLoad r = load_campaign(e.path().string());
+    EXPECT_TRUE(r.ok) << r.error;
+  }
+  EXPECT_GE(count, 3);
 }
 
 }  // namespace

@@ -272,8 +272,12 @@ TEST(ScenarioLoader, EveryScenarioInTheRepositoryLoads) {
   for (auto it = std::filesystem::recursive_directory_iterator(dir);
        it != std::filesystem::recursive_directory_iterator(); ++it) {
     const auto& entry = *it;
-    // scenarios/maps holds occupancy maps (loader_occupancy_map_test loads them), no scenarios.
-    if (entry.is_directory() && entry.path() == dir / "maps") it.disable_recursion_pending();
+    // scenarios/maps holds occupancy maps (loader_occupancy_map_test loads them), and
+    // scenarios/campaigns campaign files (campaign_file_test): no scenarios.
+    if (entry.is_directory() &&
+        (entry.path() == dir / "maps" || entry.path() == dir / "campaigns")) {
+      it.disable_recursion_pending();
+    }
     if (!entry.is_regular_file() || entry.path().extension() != ".yaml") continue;
     ++count;
     const LoadResult r = load_scenario(entry.path().string(), test::robots_dir());
