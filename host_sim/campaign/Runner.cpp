@@ -111,7 +111,7 @@ pid_t spawn_sim(const RunnerOptions& opt, const fs::path& dir, std::string& erro
 
 class Progress {
  public:
-  Progress(const RunnerOptions& opt, std::uint64_t todo) : opt_(opt), todo_(todo) {}
+  Progress(const RunnerOptions& opt, std::uint64_t pending) : opt_(opt), pending_(pending) {}
   void update(const RunCounts& c, bool last) {
     if (!opt_.progress) return;
     const auto now = Clock::now();
@@ -119,9 +119,9 @@ class Progress {
     printed_ = now;
     const double wall = std::chrono::duration<double>(now - t0_).count();
     const double rate = wall > 0.0 ? double(c.ran) / wall : 0.0;
-    const double left = rate > 0.0 ? double(todo_ - c.ran) / rate : 0.0;
+    const double left = rate > 0.0 ? double(pending_ - c.ran) / rate : 0.0;
     const int width = 30;
-    const int fill = todo_ == 0 ? width : int(double(width) * double(c.ran) / double(todo_));
+    const int fill = pending_ == 0 ? width : int(double(width) * double(c.ran) / double(pending_));
     std::string bar(std::size_t(fill), '#');
     bar.resize(std::size_t(width), '.');
     std::fprintf(stderr, "%s[%s] %llu/%llu done, %llu failed, %llu errors, %.2f runs/s, %s left%s",
@@ -136,7 +136,7 @@ class Progress {
 
  private:
   const RunnerOptions& opt_;
-  std::uint64_t todo_;
+  std::uint64_t pending_;
   Clock::time_point t0_ = Clock::now();
   Clock::time_point printed_{};
 };
@@ -188,21 +188,21 @@ RunCounts run_variants(const CampaignSpec& spec, const std::vector<std::uint64_t
                        const RunnerOptions& opt) {
   RunCounts c;
   c.total = indices.size();
-  std::vector<std::uint64_t> todo;
+  std::vector<std::uint64_t> pending;
   for (const std::uint64_t i : indices) {
     if (variant_status(opt.out_dir, i).empty()) {
-      todo.push_back(i);
+      pending.push_back(i);
     } else {
       ++c.skipped;
     }
   }
   StopSignals signals;
-  Progress progress(opt, todo.size());
+  Progress progress(opt, pending.size());
   std::map<pid_t, std::uint64_t> running;
   std::size_t next = 0;
   const unsigned jobs = opt.jobs == 0 ? 1 : opt.jobs;
   const auto start_one = [&]() -> bool {
-    const std::uint64_t index = todo[next++];
+    const std::uint64_t index = pending[next++];
     const fs::path dir = variant_dir(opt.out_dir, index);
     std::error_code ec;
     fs::remove_all(dir, ec);  // what an interrupted run left
@@ -226,7 +226,8 @@ RunCounts run_variants(const CampaignSpec& spec, const std::vector<std::uint64_t
     return true;
   };
   bool ok = true;
-  while (ok && g_stop.load() == 0 && next < todo.size() && running.size() < jobs) ok = start_one();
+  while (ok && g_stop.load() == 0 && next < pending.size() && running.size() < jobs)
+    ok = start_one();
   bool stopping = false;
   while (!running.empty()) {
     if (!stopping && (g_stop.load() != 0 || !ok)) {
@@ -272,7 +273,7 @@ RunCounts run_variants(const CampaignSpec& spec, const std::vector<std::uint64_t
     }
     ++c.ran;
     progress.update(c, false);
-    while (ok && g_stop.load() == 0 && next < todo.size() && running.size() < jobs) {
+    while (ok && g_stop.load() == 0 && next < pending.size() && running.size() < jobs) {
       ok = start_one();
     }
   }

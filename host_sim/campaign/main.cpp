@@ -192,12 +192,12 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
-    std::vector<std::uint64_t> todo;
+    std::vector<std::uint64_t> pending;
     if (work->parsed()) {
-      todo = chunk_variants(spec, so.chunk_size, chunk);
+      pending = chunk_variants(spec, so.chunk_size, chunk);
     } else {
-      todo.resize(spec.variant_count());
-      for (std::uint64_t i = 0; i < todo.size(); ++i) todo[i] = i;
+      pending.resize(spec.variant_count());
+      for (std::uint64_t i = 0; i < pending.size(); ++i) pending[i] = i;
     }
     RunnerOptions opt;
     opt.out_dir = out;
@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
     opt.jobs = work->parsed() ? 1 : jobs;
     opt.progress = !quiet && !work->parsed();
     opt.progress_tty = ::isatty(STDERR_FILENO) != 0;
-    const RunCounts c = run_variants(spec, todo, opt);
+    const RunCounts c = run_variants(spec, pending, opt);
     if (!c.error.empty()) {
       std::fprintf(stderr, "carril_campaign: %s\n", c.error.c_str());
       return 2;
