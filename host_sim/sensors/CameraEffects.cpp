@@ -24,11 +24,14 @@ CameraEffects::CameraEffects(const Scenario& scenario, std::uint64_t seed)
     reach_ = int(std::ceil(3.0 * radius_px_));
     const int side = 2 * reach_ + 1;
     const double k = -0.5 / (radius_px_ * radius_px_);
-    patch_.resize(std::size_t(side) * std::size_t(side));
+    patch_.resize(std::size_t(side) * std::size_t(side) * 3);
     for (int dv = -reach_; dv <= reach_; ++dv) {
       for (int du = -reach_; du <= reach_; ++du) {
-        patch_[std::size_t(dv + reach_) * std::size_t(side) + std::size_t(du + reach_)] =
+        const auto level =
             static_cast<std::uint8_t>(std::lround(intensity_ * std::exp(k * (du * du + dv * dv))));
+        const std::size_t at =
+            (std::size_t(dv + reach_) * std::size_t(side) + std::size_t(du + reach_)) * 3;
+        patch_[at] = patch_[at + 1] = patch_[at + 2] = level;
       }
     }
   }
@@ -48,19 +51,27 @@ void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) co
     const std::size_t n = std::size_t(w) * std::size_t(h) * 3;
     for (std::size_t i = 0; i < n; ++i) d[i] = lut_[d[i]];
   }
+  apply_glare(frame, frame_index);
+}
+
+void CameraEffects::apply_glare(hal::CameraFrame& frame, std::uint64_t frame_index) const {
+  const int w = frame.width, h = frame.height;
+  std::uint8_t* d = frame.bgr.data();
   if (intensity_ <= 0.0) return;
   const int uc = glare_u(frame_index, w), vc = v_, side = 2 * reach_ + 1;
   const int u0 = std::max(0, uc - reach_), u1 = std::min(w - 1, uc + reach_);
   const int v0 = std::max(0, vc - reach_), v1 = std::min(h - 1, vc + reach_);
+  // Byte by byte over each row's span (the patch holds every level three times, B, G and R), so
+  // the loop is a saturating add the compiler vectorises.
+  const std::size_t n = std::size_t(u1 - u0 + 1) * 3;
   for (int v = v0; v <= v1; ++v) {
-    const std::uint8_t* add = &patch_[std::size_t(v - vc + reach_) * std::size_t(side)];
-    std::uint8_t* row = d + std::size_t(v) * std::size_t(w) * 3;
-    for (int u = u0; u <= u1; ++u) {
-      const int a = add[u - uc + reach_];
-      for (int c = 0; c < 3; ++c) {
-        std::uint8_t& p = row[std::size_t(u) * 3 + std::size_t(c)];
-        p = static_cast<std::uint8_t>(std::min(255, int(p) + a));
-      }
+    const std::uint8_t* add =
+        &patch_[(std::size_t(v - vc + reach_) * std::size_t(side) + std::size_t(u0 - uc + reach_)) *
+                3];
+    std::uint8_t* p = d + (std::size_t(v) * std::size_t(w) + std::size_t(u0)) * 3;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto s = static_cast<std::uint16_t>(p[i] + add[i]);
+      p[i] = static_cast<std::uint8_t>(s > 255 ? 255 : s);
     }
   }
 }

@@ -154,7 +154,7 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   frame.width = static_cast<std::uint16_t>(cs.width);
   frame.height = static_cast<std::uint16_t>(cs.height);
   cv::Mat img(cs.height, cs.width, CV_8UC3, frame.bgr.data());
-  const Rgb f = scenario_.floor;
+  const Rgb f = effects_.expose(scenario_.floor);
   img.setTo(cv::Scalar(f.b, f.g, f.r));
 
   const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
@@ -166,16 +166,28 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
     draw(poly.pts, poly.color, pose, img);
   }
 
-  if (effects_.any()) effects_.apply(frame, frames_);
+  // Exposure went into the colours drawn (draw()); the glare goes on top.
+  effects_.apply_glare(frame, frames_);
   ++frames_;
   if (noise_std_ > 0) {
     const std::size_t n = std::size_t(cs.width) * cs.height * 3;
     std::size_t k = std::uniform_int_distribution<std::size_t>(0, noise_.size() - 1)(rng_);
     std::uint8_t* d = frame.bgr.data();
-    for (std::size_t i = 0; i < n; ++i) {
-      d[i] = static_cast<std::uint8_t>(std::clamp(int(d[i]) + noise_[k], 0, 255));
-      if (++k == noise_.size()) k = 0;
+    // In runs that do not wrap round the table, so the compiler vectorises the loop.
+    for (std::size_t i = 0; i < n;) {
+      const std::size_t m = std::min(n - i, noise_.size() - k);
+      add_clamped(d + i, noise_.data() + k, m);
+      i += m;
+      k = 0;
     }
+  }
+}
+
+void CameraRenderer::add_clamped(std::uint8_t* d, const std::int16_t* add, std::size_t n) {
+  // 16-bit arithmetic (levels and samples are within +-255), so eight pixels go per SSE2 op.
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto v = static_cast<std::int16_t>(std::int16_t(d[i]) + add[i]);
+    d[i] = static_cast<std::uint8_t>(std::min<std::int16_t>(std::max<std::int16_t>(v, 0), 255));
   }
 }
 
@@ -257,8 +269,9 @@ void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& 
   }
   const bool any_inside = umax >= -1 && umin <= cs.width && vmax >= -1 && vmin <= cs.height;
   if (!any_inside) return;
-  cv::fillConvexPoly(img, px_.data(), int(px_.size()), cv::Scalar(color.b, color.g, color.r),
-                     cv::LINE_8, kShift);
+  const Rgb c = effects_.expose(color);
+  cv::fillConvexPoly(img, px_.data(), int(px_.size()), cv::Scalar(c.b, c.g, c.r), cv::LINE_8,
+                     kShift);
 }
 
 }  // namespace carril::sim

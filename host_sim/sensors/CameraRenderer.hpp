@@ -43,6 +43,8 @@ class CameraRenderer {
   // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
   void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
   void draw_texture(const Pose2& pose, cv::Mat& img);
+  // d[i] = clamp(d[i] + add[i], 0, 255) for i < n.
+  static void add_clamped(std::uint8_t* d, const std::int16_t* add, std::size_t n);
 
   const Scenario& scenario_;
   fw::CameraModel cam_;

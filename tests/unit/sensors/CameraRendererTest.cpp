@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 
 #include "hal/Types.hpp"
@@ -153,6 +154,49 @@ TEST(CameraRendererTest, FloorIsTexturedFixedInTheWorld) {
   // 5 cm further on, the image has changed.
   CameraRenderer(s, 1).render({0.05, 0, 0}, *c);
   EXPECT_NE(0, std::memcmp(a->bgr.data(), c->bgr.data(), 640 * 480 * 3));
+}
+
+// The renderer exposes the colours it draws instead of every pixel after: the frame must equal
+// the unexposed frame put through CameraEffects::apply (exposure per pixel, then glare).
+TEST(CameraRendererTest, ExposureInTheColoursEqualsExposingTheFrame) {
+  for (const double exposure : {0.6, 1.3, 2.5}) {
+    Scenario s = dot_scenario(1.1, 0.05);
+    s.lines[0].points = {{0.5, -0.2}, {1.5, 0.3}};
+    s.glare.intensity = 80.0;
+    s.glare.radius_px = 40.0;
+    Scenario plain = s;
+    plain.glare.intensity = 0.0;
+    s.robot.camera.exposure = exposure;
+    auto drawn = std::make_unique<hal::CameraFrame>(), after = std::make_unique<hal::CameraFrame>();
+    const Pose2 pose{0.1, 0.0, 0.2};
+    CameraRenderer(s, 5).render(pose, *drawn);
+    CameraRenderer(plain, 5).render(pose, *after);
+    CameraEffects(s, 5).apply(*after, 0);
+    EXPECT_EQ(0, std::memcmp(drawn->bgr.data(), after->bgr.data(), 640 * 480 * 3)) << exposure;
+  }
+}
+
+// Noise is added with saturation: a bright floor never wraps round to dark, nor a dark one to
+// bright (the noise loop works in 16 bits over runs of the sample table).
+TEST(CameraRendererTest, NoiseSaturatesInsteadOfWrapping) {
+  for (const int level : {3, 252}) {
+    Scenario s = dot_scenario(-5.0, 0.0);
+    s.floor = {std::uint8_t(level), std::uint8_t(level), std::uint8_t(level)};
+    s.floor_speckle = 0.0;
+    s.robot.camera.noise_std = 20.0;
+    auto f = std::make_unique<hal::CameraFrame>();
+    CameraRenderer r(s, 11);
+    int far = 0, changed = 0;
+    for (int k = 0; k < 3; ++k) {
+      r.render({0, 0, 0}, *f);
+      for (std::size_t i = 0; i < 640 * 480 * 3; ++i) {
+        far += std::abs(int(f->bgr[i]) - level) > 128;
+        changed += f->bgr[i] != level;
+      }
+    }
+    EXPECT_EQ(far, 0) << level;
+    EXPECT_GT(changed, 3 * 640 * 480) << level;  // about half of them move away from the bound
+  }
 }
 
 }  // namespace
