@@ -115,10 +115,12 @@ void check_cells(const Scenario& s, const fw::LineFirmware& f, RunSummary& r) {
   }
 }
 
-bool write_costmap_outputs(const fw::LineFirmware& f, const std::string& dir, std::string& error) {
+bool write_costmap_outputs(const fw::LineFirmware& f, const std::string& dir, std::string& error,
+                           bool pngs) {
   const fw::Mapping& m = f.mapping;
   if (!m.enabled()) return true;
   auto png = [&](const fw::RollingGrid<std::uint8_t>& g, const char* name) {
+    if (!pngs) return true;
     const std::vector<std::uint8_t> w = window_of(g);
     if (auto e = loader::export_costmap_png(dir + "/" + name, w.data(), geometry_of(g), 2)) {
       error = *e;

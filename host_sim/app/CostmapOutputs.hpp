@@ -22,8 +22,9 @@ void score_goto(const Scenario& s, const fw::LineFirmware& firmware, const Pose2
 // names the cell, what it is, the label expected and the cost found.
 void check_cells(const Scenario& s, const fw::LineFirmware& firmware, RunSummary& r);
 
-// Writes the map files into `dir` (nothing when the firmware builds no costmap).
+// Writes the map files into `dir` (nothing when the firmware builds no costmap); with `pngs`
+// false only the data files (costmap.pgm/.yaml, elevation.cmap), no images.
 bool write_costmap_outputs(const fw::LineFirmware& firmware, const std::string& dir,
-                           std::string& error);
+                           std::string& error, bool pngs = true);
 
 }  // namespace carril::sim

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+
+#include "host_sim/output/PlotUtil.hpp"
+#include "host_sim/output/RunOutputs.hpp"
 
 namespace carril::sim {
 
@@ -78,10 +80,9 @@ bool CoverageScore::write_png(const std::string& dir, std::string& error) const 
   cv::putText(img, text, cv::Point(6, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
   const std::string path = dir + "/coverage.png";
-  const std::string tmp = dir + "/.coverage.png.tmp.png";
-  if (!cv::imwrite(tmp, img) || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    error = path + ": cannot write the coverage heat map";
-    std::remove(tmp.c_str());
+  std::string png, why;
+  if (!plot::encode_png(img, png, why) || !write_file_atomic(path, png, why)) {
+    error = path + ": cannot write the coverage heat map: " + why;
     return false;
   }
   return true;

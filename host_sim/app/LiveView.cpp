@@ -1,10 +1,14 @@
 #include "host_sim/app/LiveView.hpp"
 
+#include <dlfcn.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <opencv2/highgui.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "host_sim/app/ViewWindow.hpp"
 
 namespace carril::sim {
 
@@ -13,9 +17,45 @@ const char* kWindow = "carril_sim";
 cv::Scalar bgr(Rgb c) {
   return cv::Scalar(c.b, c.g, c.r);
 }
+
+// libcarril_sim_window.so, beside the carril_sim executable (ViewWindow.hpp says why it is not
+// linked in).
+struct WindowModule {
+  void* handle = nullptr;
+  decltype(&carril_view_open) open = nullptr;
+  decltype(&carril_view_show) show = nullptr;
+  decltype(&carril_view_close) close = nullptr;
+
+  bool load(std::string& why) {
+    char exe[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0) {
+      why = "cannot find carril_sim's own path (/proc/self/exe)";
+      return false;
+    }
+    std::string path(exe, std::size_t(n));
+    path = path.substr(0, path.rfind('/') + 1) + "libcarril_sim_window.so";
+    handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      const char* e = ::dlerror();
+      why = "cannot load the window module " + path + ": " + (e ? e : "unknown error") +
+            " (build the carril_sim_window target)";
+      return false;
+    }
+    open = reinterpret_cast<decltype(open)>(::dlsym(handle, "carril_view_open"));
+    show = reinterpret_cast<decltype(show)>(::dlsym(handle, "carril_view_show"));
+    close = reinterpret_cast<decltype(close)>(::dlsym(handle, "carril_view_close"));
+    if (open == nullptr || show == nullptr || close == nullptr) {
+      why = path + " lacks the carril_view_* functions (a stale build?)";
+      return false;
+    }
+    return true;
+  }
+};
 }  // namespace
 
 struct LiveView::Impl {
+  WindowModule window;
   const Scenario& scenario;
   cv::Mat background;
   double scale = 50.0, min_x = 0.0, max_y = 0.0;
@@ -80,13 +120,18 @@ std::unique_ptr<LiveView> LiveView::open(const Scenario& scenario, std::string& 
     why = "no display (DISPLAY is not set); run without --view, or under a desktop or Xvfb";
     return nullptr;
   }
-  cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE);
-  return std::unique_ptr<LiveView>(new LiveView(std::make_unique<Impl>(scenario)));
+  auto impl = std::make_unique<Impl>(scenario);
+  if (!impl->window.load(why)) return nullptr;
+  if (impl->window.open(kWindow) != 0) {
+    why = "cannot open a window on display " + std::string(display);
+    return nullptr;
+  }
+  return std::unique_ptr<LiveView>(new LiveView(std::move(impl)));
 }
 
 LiveView::LiveView(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 LiveView::~LiveView() {
-  cv::destroyAllWindows();
+  impl_->window.close();
 }
 
 bool LiveView::update(SimRun& run, double dt_s) {
@@ -124,10 +169,7 @@ bool LiveView::update(SimRun& run, double dt_s) {
   cv::putText(canvas, cv::format("camera %dx%d (robot's view, up = ahead)", f.width, f.height),
               {top.cols + 10, cam_small.rows + 28}, cv::FONT_HERSHEY_SIMPLEX, 0.6,
               cv::Scalar(230, 230, 230), 1);
-  cv::imshow(kWindow, canvas);
-  const int key = cv::waitKey(1);
-  if (key == 'q' || key == 27) return false;
-  return cv::getWindowProperty(kWindow, cv::WND_PROP_VISIBLE) >= 1.0;
+  return v.window.show(kWindow, canvas.rows, canvas.cols, canvas.data, canvas.step[0]) == 1;
 }
 
 }  // namespace carril::sim

@@ -94,7 +94,8 @@ struct Options {
   carril::sim::ScenarioOverrides overrides;
   std::optional<std::uint64_t> seed;  // the scenario's when absent
   bool realtime = false, view = false, quiet = false;
-  bool hil = false;  // --hil: the world for an external controller (HilMain.hpp)
+  bool plots = true;  // --no-plots clears it
+  bool hil = false;   // --hil: the world for an external controller (HilMain.hpp)
   carril::sim::HilOptions hil_opt;
 };
 
@@ -122,6 +123,9 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& o) {
   cli.add_flag("--realtime", o.realtime, "pace the run to wall-clock time");
   cli.add_flag("--view", o.view, "open a live window: top view and camera image");
   cli.add_flag("--quiet", o.quiet, "print only the final summary line");
+  cli.add_flag("!--no-plots", o.plots,
+               "write no images (trajectory, velocities, costmap and coverage PNGs), only the data "
+               "files: campaigns run thousands of runs and replay the few worth a look");
   // Hardware in the loop (docs/hil.md).
   cli.add_flag("--hil", o.hil,
                "hardware in the loop: no firmware here; emulated CiA 402 drives on --can, the "
@@ -219,7 +223,7 @@ void run_to_end(carril::sim::SimRun& run, const Options& o, carril::sim::LiveVie
 }
 
 void print_result(const carril::sim::Scenario& scenario, const carril::sim::RunSummary& summary,
-                  const std::string& out_dir) {
+                  const std::string& out_dir, bool plots) {
   std::printf(
       "carril_sim: %s: %s, %s after %.1f s simulated in %.2f s wall (%.0fx real time); progress "
       "%.3f, "
@@ -230,8 +234,8 @@ void print_result(const carril::sim::Scenario& scenario, const carril::sim::RunS
       summary.laps, summary.collisions, summary.cross_track_rms_m, summary.cross_track_max_m,
       summary.tick_compute_p99_us, summary.heap_allocations_after_init);
   for (const std::string& u : summary.unmet_expectations) std::printf("  unmet: %s\n", u.c_str());
-  std::printf("carril_sim: wrote %s/{trajectory.csv,summary.json,trajectory.png,velocities.png}\n",
-              out_dir.c_str());
+  std::printf("carril_sim: wrote %s/{trajectory.csv,summary.json%s}\n", out_dir.c_str(),
+              plots ? ",trajectory.png,velocities.png" : "");
 }
 }  // namespace
 
@@ -305,15 +309,15 @@ int main(int argc, char** argv) {
   const carril::sim::RunSummary summary = run.summary(wall);
 
   std::string error;
-  const auto costmaps = [&run](const std::string& dir, std::string& err) {
-    if (run.coverage() != nullptr && !run.coverage()->write_png(dir, err)) return false;
-    return carril::sim::write_costmap_outputs(run.firmware(), dir, err);
+  const auto costmaps = [&run, &o](const std::string& dir, std::string& err) {
+    if (o.plots && run.coverage() != nullptr && !run.coverage()->write_png(dir, err)) return false;
+    return carril::sim::write_costmap_outputs(run.firmware(), dir, err, o.plots);
   };
   if (!carril::sim::write_run_outputs(out_dir, scenario, run.rows(), run.collisions(), summary,
-                                      error, costmaps)) {
+                                      error, costmaps, o.plots)) {
     std::fprintf(stderr, "carril_sim: writing outputs: %s\n", error.c_str());
     return 2;
   }
-  print_result(scenario, summary, out_dir);
+  print_result(scenario, summary, out_dir, o.plots);
   return summary.passed ? 0 : 1;
 }

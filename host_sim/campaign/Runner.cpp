@@ -79,7 +79,8 @@ pid_t spawn_sim(const RunnerOptions& opt, const fs::path& dir, std::string& erro
   const std::string scenario = (dir / "scenario.yaml").string();
   const std::string out = (dir / "sim").string();
   const std::string log = (dir / "sim.log").string();
-  std::vector<std::string> args = {opt.sim_path, "--scenario", scenario, "--out", out, "--quiet"};
+  std::vector<std::string> args = {opt.sim_path, "--scenario", scenario,    "--out",
+                                   out,          "--quiet",    "--no-plots"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

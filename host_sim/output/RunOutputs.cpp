@@ -391,7 +391,7 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error, const ExtraOutputs& extra) {
+                       std::string& error, const ExtraOutputs& extra, bool plots) {
   OutPaths p;
   // Checked again: the directory may have changed during the run, and it is about to be replaced.
   if (!resolve(dir, p, error) || !check_replaceable(p, error) || !create_parent(p, error)) {
@@ -415,12 +415,14 @@ bool write_run_outputs(const std::string& dir, const Scenario& scenario,
 
   std::string png;
   if (!write("trajectory.csv", trajectory_to_csv(rows))) return abandon(error);
-  if (!render_trajectory_png(scenario, rows, collisions, summary, png, error)) {
-    return abandon(error);
+  if (plots) {
+    if (!render_trajectory_png(scenario, rows, collisions, summary, png, error)) {
+      return abandon(error);
+    }
+    if (!write("trajectory.png", png)) return abandon(error);
+    if (!render_velocities_png(rows, summary, png, error)) return abandon(error);
+    if (!write("velocities.png", png)) return abandon(error);
   }
-  if (!write("trajectory.png", png)) return abandon(error);
-  if (!render_velocities_png(rows, summary, png, error)) return abandon(error);
-  if (!write("velocities.png", png)) return abandon(error);
   if (extra) {
     if (!extra(p.staging.string(), error)) return abandon(error);
     // Only the known names may join the set (a later run must recognise it as outputs).

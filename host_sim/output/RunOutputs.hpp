@@ -98,7 +98,8 @@ std::string trajectory_to_csv(const std::vector<TrajectoryRow>& rows);
 // the path and the OS's reason) otherwise.
 bool prepare_output_dir(const std::string& dir, std::string& error);
 
-// Writes the four files and swaps them in for `dir` as one set: into a fresh staging directory
+// Writes the four files (with `plots` false the two data files, no PNGs) and swaps them in for
+// `dir` as one set: into a fresh staging directory
 // `.<name>.tmp.<pid>` in `dir`'s parent, each synced, then an atomic exchange with `dir`
 // (renameat2 RENAME_EXCHANGE; a plain rename when `dir` does not exist; where the filesystem
 // cannot exchange, `dir` is renamed aside to `.<name>.old.<pid>` first and restored if the second
@@ -114,7 +115,7 @@ using ExtraOutputs = std::function<bool(const std::string& dir, std::string& err
 bool write_run_outputs(const std::string& dir, const Scenario& scenario,
                        const std::vector<TrajectoryRow>& rows,
                        const std::vector<CollisionPoint>& collisions, const RunSummary& summary,
-                       std::string& error, const ExtraOutputs& extra = {});
+                       std::string& error, const ExtraOutputs& extra = {}, bool plots = true);
 
 // Test hook: makes the next write_run_outputs calls fail at `step` until reset with "". Steps: a
 // file name ("trajectory.csv", "trajectory.png", "velocities.png", "summary.json": writing that

@@ -263,6 +263,21 @@ TEST_F(RunOutputsTest, EmptyRunStillWritesValidImages) {
   EXPECT_EQ(read_all(dir_ / "trajectory.csv"), "t,x,y,yaw,vx,vy,wz,state,cross_track_m\n");
 }
 
+// --no-plots (campaigns): the two data files only, and a later full run replaces that set.
+TEST_F(RunOutputsTest, WithoutPlotsOnlyTheDataFilesAreWritten) {
+  const Scenario sc = demo_scenario();
+  RunSummary s;
+  std::string error;
+  ASSERT_TRUE(write_run_outputs(dir_.string(), sc, {}, {}, s, error, {}, false)) << error;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"summary.json", "trajectory.csv"}));
+  ASSERT_TRUE(write_run_outputs(dir_.string(), sc, {}, {}, s, error)) << error;
+  EXPECT_TRUE(fs::exists(dir_ / "trajectory.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "velocities.png"));
+}
+
 TEST_F(RunOutputsTest, NonFiniteSamplesDoNotBreakThePlots) {
   const Scenario sc = demo_scenario();
   const double nan = std::numeric_limits<double>::quiet_NaN();
