@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "host_sim/sensors/SaturatingAdd.hpp"
+
 namespace carril::sim {
 
 CameraEffects::CameraEffects(const Scenario& scenario, std::uint64_t seed)
@@ -61,18 +63,14 @@ void CameraEffects::apply_glare(hal::CameraFrame& frame, std::uint64_t frame_ind
   const int uc = glare_u(frame_index, w), vc = v_, side = 2 * reach_ + 1;
   const int u0 = std::max(0, uc - reach_), u1 = std::min(w - 1, uc + reach_);
   const int v0 = std::max(0, vc - reach_), v1 = std::min(h - 1, vc + reach_);
-  // Byte by byte over each row's span (the patch holds every level three times, B, G and R), so
-  // the loop is a saturating add the compiler vectorises.
+  // Byte by byte over each row's span (the patch holds every level three times, B, G and R): a
+  // saturating add, sixteen bytes at a time.
   const std::size_t n = std::size_t(u1 - u0 + 1) * 3;
   for (int v = v0; v <= v1; ++v) {
     const std::uint8_t* add =
         &patch_[(std::size_t(v - vc + reach_) * std::size_t(side) + std::size_t(u0 - uc + reach_)) *
                 3];
-    std::uint8_t* p = d + (std::size_t(v) * std::size_t(w) + std::size_t(u0)) * 3;
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto s = static_cast<std::uint16_t>(p[i] + add[i]);
-      p[i] = static_cast<std::uint8_t>(s > 255 ? 255 : s);
-    }
+    add_saturate(d + (std::size_t(v) * std::size_t(w) + std::size_t(u0)) * 3, add, n);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "host_sim/sensors/SaturatingAdd.hpp"
 #include "host_sim/sensors/TapeWear.hpp"
 
 namespace carril::sim {
@@ -109,10 +110,15 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
   if (noise_std_ > 0) {
     // A table of noise samples, read from a random offset each frame: per-pixel Gaussian draws
     // would cost more than the rest of the simulation together.
+    // Each sample as its positive and its negative part, for saturating byte arithmetic.
     std::normal_distribution<double> n(0.0, noise_std_);
-    noise_.resize(1 << 20);
-    for (auto& v : noise_)
-      v = static_cast<std::int16_t>(std::lround(std::clamp(n(rng_), -255.0, 255.0)));
+    noise_up_.resize(1 << 20);
+    noise_down_.resize(1 << 20);
+    for (std::size_t i = 0; i < noise_up_.size(); ++i) {
+      const long v = std::lround(std::clamp(n(rng_), -255.0, 255.0));
+      noise_up_[i] = static_cast<std::uint8_t>(v > 0 ? v : 0);
+      noise_down_[i] = static_cast<std::uint8_t>(v < 0 ? -v : 0);
+    }
   }
 }
 
@@ -171,23 +177,16 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   ++frames_;
   if (noise_std_ > 0) {
     const std::size_t n = std::size_t(cs.width) * cs.height * 3;
-    std::size_t k = std::uniform_int_distribution<std::size_t>(0, noise_.size() - 1)(rng_);
+    const std::size_t size = noise_up_.size();
+    std::size_t k = std::uniform_int_distribution<std::size_t>(0, size - 1)(rng_);
     std::uint8_t* d = frame.bgr.data();
-    // In runs that do not wrap round the table, so the compiler vectorises the loop.
+    // In runs that do not wrap round the table: clamp(level + sample, 0, 255) per byte.
     for (std::size_t i = 0; i < n;) {
-      const std::size_t m = std::min(n - i, noise_.size() - k);
-      add_clamped(d + i, noise_.data() + k, m);
+      const std::size_t m = std::min(n - i, size - k);
+      add_sub_saturate(d + i, noise_up_.data() + k, noise_down_.data() + k, m);
       i += m;
       k = 0;
     }
-  }
-}
-
-void CameraRenderer::add_clamped(std::uint8_t* d, const std::int16_t* add, std::size_t n) {
-  // 16-bit arithmetic (levels and samples are within +-255), so eight pixels go per SSE2 op.
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto v = static_cast<std::int16_t>(std::int16_t(d[i]) + add[i]);
-    d[i] = static_cast<std::uint8_t>(std::min<std::int16_t>(std::max<std::int16_t>(v, 0), 255));
   }
 }
 

@@ -43,8 +43,6 @@ class CameraRenderer {
   // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
   void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
   void draw_texture(const Pose2& pose, cv::Mat& img);
-  // d[i] = clamp(d[i] + add[i], 0, 255) for i < n.
-  static void add_clamped(std::uint8_t* d, const std::int16_t* add, std::size_t n);
 
   const Scenario& scenario_;
   fw::CameraModel cam_;
@@ -55,7 +53,8 @@ class CameraRenderer {
   std::vector<cv::Point> px_;
   std::vector<Vec2> speckle_;
   double noise_std_;
-  std::vector<std::int16_t> noise_;  // precomputed N(0, std) samples
+  // Precomputed N(0, std) samples, rounded: each as max(v, 0) and max(-v, 0).
+  std::vector<std::uint8_t> noise_up_, noise_down_;
   std::mt19937_64 rng_;
   CameraEffects effects_;  // exposure and glare
   std::uint64_t frames_ = 0;
