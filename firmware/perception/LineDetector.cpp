@@ -1,7 +1,9 @@
 #include "firmware/perception/LineDetector.hpp"
 
+#include <bit>
 #include <cmath>
 
+#include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/BlobLabeler.hpp"
 #include "firmware/perception/BlobRefiner.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
@@ -11,8 +13,8 @@
 //  1. Decimate: each d x d block of the frame is averaged (the average is the blur) and its colour
 //     looked up in a table built at construction that holds the HSV verdict for the tape and the
 //     end-mark windows (ColorClassifier). Both masks come out of one pass, packed 64 cells a word.
-//     While the tape is tracked, only a window of columns round it is classified, with sampled
-//     blocks round the window proving that the whole frame's masks would be the same (detect()).
+//     Only the blocks near sampled blocks of either colour are classified, which gives the whole
+//     frame's cleaned-up masks exactly (sparse classification, below).
 //  2. Clean: one 3x3 erosion and one 3x3 dilation of the decimated masks (at d = 2 a cell is
 //     2 px, so this is the full-resolution two-and-two; at d = 1 it is done twice, as OpenCV).
 //  3. Label the 8-connected components by runs (BlobLabeler) and take the largest ones.
@@ -40,19 +42,40 @@ int normalised_decimation(int d) {
   return d == 1 || d == 4 ? d : 2;
 }
 
-// Classifies every d x d block of the frame into the two masks. Per row of blocks: the block
-// sums of each channel, quantised to 6 bits, for every byte position (straight loops over the
-// interleaved row, which the compiler vectorises), then one table lookup per block.
-// Tracking window: only block columns x0..x1 are classified into the masks, the rest is left
-// clear. Round it, every kSampleEvery-th block (columns 0, 3, 6, ...) of every kSampleEvery-th
-// row of blocks is looked at, from the image's left edge to x0 + 1 and from x1 - 1 to its right
-// edge, and a block of either colour there ends the pass (false): the caller then classifies the
-// frame whole. The cleanup (an opening) keeps the union of the 3x3 (at d = 1, 5x5) squares of
-// cells that are all set; every such square not inside the window holds a sampled block. So a
-// pass that returns true gives the whole frame's cleaned-up masks exactly.
+// Classification. Per row of blocks: the block sums of each channel, quantised to 6 bits, for
+// every byte position of a span (straight loops over the interleaved row, which the compiler
+// vectorises), then one table lookup per block into a row of verdict bytes, packed 64 cells a
+// word into the two masks.
+//
+// Sparse classification (the default): the cleanup that follows is an opening, which keeps only
+// the union of the k x k squares of cells that are all set (k = 3; 5 at d = 1, where it is done
+// twice; at the image's edges the squares are clipped, since erosion counts outside as set).
+// Every such square, clipped or not, holds a sampled block: one of every kSampleEvery-th block of
+// every kSampleEvery-th row, with the last row and column sampled too. So only the sampled blocks
+// are classified first, and then only the cells within k - 1 of a sampled block that shows either
+// colour; cells never classified count as clear. Every square the opening keeps lies whole in
+// such a neighbourhood, so it is found all set, and no square can be found all set that is not:
+// the cleaned-up masks are exactly those of the whole frame, at a fraction of the cost (a frame
+// with no tape costs its samples; a tape costs a band a few cells wider than itself).
 constexpr int kSampleEvery = 3;
 
-// The table verdict of block (x, by), summed and quantised as classify does.
+// The next sampled row or column after `i` of `n` (every kSampleEvery-th, then the last).
+int next_sample(int i, int n) {
+  if (i + kSampleEvery < n) return i + kSampleEvery;
+  return i == n - 1 ? n : n - 1;
+}
+
+// Sets cells a..b (inclusive) of a bit row.
+void set_cells(std::uint64_t* row, int a, int b) {
+  for (int k = a / 64; k <= b / 64; ++k) {
+    const int lo = k * 64 > a ? 0 : a - k * 64;
+    const int hi = (k + 1) * 64 - 1 < b ? 63 : b - k * 64;
+    const std::uint64_t upto = hi == 63 ? bits::kAll : ((std::uint64_t{1} << (hi + 1)) - 1);
+    row[k] |= upto & (bits::kAll << lo);
+  }
+}
+
+// The table verdict of block (x, by): bit 0 tape colour, bit 1 end-mark colour.
 template <int D>
 std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::uint8_t* lut, int x,
                            int by) {
@@ -68,73 +91,108 @@ std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::ui
   return lut[color_lut::index(sum[0] >> kShift, sum[1] >> kShift, sum[2] >> kShift)];
 }
 
+// Verdicts of block columns c0..c1 of block row `by` into verdict[c0..c1].
 template <int D>
-bool classify(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
-              std::uint8_t* q, std::uint8_t* verdict, const BitImage& line, const BitImage& end,
-              int x0, int x1) {
+void classify_span(const std::uint8_t* img, int width, const std::uint8_t* lut, std::uint16_t* vsum,
+                   std::uint8_t* q, std::uint8_t* verdict, int by, int c0, int c1) {
   constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);  // block sum to 6 bits
   const int row_bytes = width * 3;
   const int n = row_bytes - 3 * (D - 1);  // positions whose block lies inside the row
-  const bool windowed = x0 > 0 || x1 < line.width - 1;
-  const int vbytes = 64 * line.stride;
-  for (int i = 0; i < vbytes; ++i) verdict[i] = 0;
-  const int c0 = x0, c1 = x1;
   const int i0 = 3 * D * c0, i1 = 3 * D * (c1 + 1) < n ? 3 * D * (c1 + 1) : n;
-  const int vs1 = i1 + 3 * (D - 1);  // <= row_bytes
-  // The samples first: a pass that fails costs only them.
-  for (int by = 0; windowed && by < line.height; by += kSampleEvery) {
-    std::uint8_t outside = 0;
-    for (int x = 0; x <= x0 + 1 && x < line.width; x += kSampleEvery) {
-      outside |= block_verdict<D>(img, row_bytes, lut, x, by);
+  const std::uint8_t* p = img + std::size_t(by) * D * std::size_t(row_bytes);
+  if constexpr (D == 2) {
+    const std::uint8_t* p1 = p + row_bytes;
+    for (int i = i0; i < i1; ++i) {
+      q[i] = static_cast<std::uint8_t>((p[i] + p1[i] + p[i + 3] + p1[i + 3]) >> kShift);
     }
-    for (int x = (x1 + 1) / kSampleEvery * kSampleEvery; x < line.width; x += kSampleEvery) {
-      outside |= block_verdict<D>(img, row_bytes, lut, x, by);
+  } else {
+    const int vs1 = i1 + 3 * (D - 1);  // <= row_bytes
+    for (int i = i0; i < vs1; ++i) {
+      unsigned sum = 0;
+      for (int j = 0; j < D; ++j) sum += p[std::size_t(j) * std::size_t(row_bytes) + i];
+      vsum[i] = static_cast<std::uint16_t>(sum);
     }
-    if (outside != 0) return false;
+    for (int i = i0; i < i1; ++i) {
+      unsigned sum = 0;
+      for (int m = 0; m < D; ++m) sum += vsum[i + 3 * m];
+      q[i] = static_cast<std::uint8_t>(sum >> kShift);
+    }
   }
+  for (int x = c0; x <= c1; ++x) {
+    const std::uint8_t* c3 = q + 3 * D * x;
+    verdict[x] = lut[color_lut::index(c3[0], c3[1], c3[2])];
+  }
+}
+
+// Packs verdict bytes 64k..64k+63 into word k of the two mask rows and clears them: bit 0 of
+// eight bytes at a time with a multiply (bit 0 of byte i lands in bit 56 + i).
+void pack_word(std::uint8_t* verdict, int k, std::uint64_t* line_row, std::uint64_t* end_row) {
+  constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
+  std::uint64_t lw = 0, ew = 0;
+  std::uint8_t* v = verdict + 64 * k;
+  for (int g = 0; g < 8; ++g) {
+    std::uint64_t bytes = 0;
+    for (int i = 0; i < 8; ++i) bytes |= std::uint64_t{v[8 * g + i]} << (8 * i);
+    lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
+    ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
+  }
+  for (int i = 0; i < 64; ++i) v[i] = 0;
+  line_row[k] = lw;
+  end_row[k] = ew;
+}
+
+// Every block of the frame (the reference the sparse pass must equal). Returns blocks classified.
+template <int D>
+long classify_whole(const std::uint8_t* img, int width, const std::uint8_t* lut,
+                    std::uint16_t* vsum, std::uint8_t* q, std::uint8_t* verdict,
+                    const BitImage& line, const BitImage& end) {
   for (int by = 0; by < line.height; ++by) {
-    const std::uint8_t* p = img + std::size_t(by) * D * std::size_t(row_bytes);
-    if constexpr (D == 2) {
-      const std::uint8_t* p1 = p + row_bytes;
-      for (int i = i0; i < i1; ++i) {
-        q[i] = static_cast<std::uint8_t>((p[i] + p1[i] + p[i + 3] + p1[i + 3]) >> kShift);
-      }
-    } else {
-      for (int i = i0; i < vs1; ++i) {
-        unsigned sum = 0;
-        for (int j = 0; j < D; ++j) sum += p[std::size_t(j) * std::size_t(row_bytes) + i];
-        vsum[i] = static_cast<std::uint16_t>(sum);
-      }
-      for (int i = i0; i < i1; ++i) {
-        unsigned sum = 0;
-        for (int m = 0; m < D; ++m) sum += vsum[i + 3 * m];
-        q[i] = static_cast<std::uint8_t>(sum >> kShift);
-      }
-    }
-    // One lookup per block into a row of verdict bytes (a tight loop, no shifts by a variable),
-    // then the two mask bits of eight bytes at a time packed with a multiply (bit 0 of byte i
-    // lands in bit 56 + i). `verdict` is zero outside x0..x1 and past the width.
-    for (int x = c0; x <= c1; ++x) {
-      const std::uint8_t* c3 = q + 3 * D * x;
-      verdict[x] = lut[color_lut::index(c3[0], c3[1], c3[2])];
-    }
-    constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
-    std::uint64_t* lr = line.row(by);
-    std::uint64_t* er = end.row(by);
-    for (int k = 0; k < line.stride; ++k) {
-      std::uint64_t lw = 0, ew = 0;
-      for (int g = 0; g < 8; ++g) {
-        const std::uint8_t* b8 = verdict + 64 * k + 8 * g;
-        std::uint64_t bytes = 0;
-        for (int i = 0; i < 8; ++i) bytes |= std::uint64_t{b8[i]} << (8 * i);
-        lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
-        ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
-      }
-      lr[k] = lw;
-      er[k] = ew;
+    classify_span<D>(img, width, lut, vsum, q, verdict, by, 0, line.width - 1);
+    for (int k = 0; k < line.stride; ++k) pack_word(verdict, k, line.row(by), end.row(by));
+  }
+  return long(line.width) * line.height;
+}
+
+// The sparse pass (see above): `need` (same shape as the masks) is scratch. `reach` is k - 1.
+// Returns blocks classified, the samples included.
+template <int D>
+long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut,
+                     std::uint16_t* vsum, std::uint8_t* q, std::uint8_t* verdict,
+                     const BitImage& line, const BitImage& end, const BitImage& need, int reach) {
+  const int w = line.width, h = line.height, row_bytes = width * 3;
+  const std::size_t words = std::size_t(line.stride) * std::size_t(h);
+  for (std::size_t i = 0; i < words; ++i) {
+    need.bits[i] = 0;
+    line.bits[i] = 0;
+    end.bits[i] = 0;
+  }
+  long blocks = 0;
+  for (int by = 0; by < h; by = next_sample(by, h)) {
+    for (int x = 0; x < w; x = next_sample(x, w)) {
+      ++blocks;
+      if (block_verdict<D>(img, row_bytes, lut, x, by) == 0) continue;
+      const int a = x - reach > 0 ? x - reach : 0, b = x + reach < w - 1 ? x + reach : w - 1;
+      const int y1 = by + reach < h - 1 ? by + reach : h - 1;
+      for (int y = by - reach > 0 ? by - reach : 0; y <= y1; ++y) set_cells(need.row(y), a, b);
     }
   }
-  return true;
+  for (int by = 0; by < h; ++by) {
+    const std::uint64_t* nr = need.row(by);
+    for (int k = 0; k < line.stride; ++k) {
+      std::uint64_t bits_left = nr[k];
+      if (bits_left == 0) continue;
+      // Each run of needed cells within the word.
+      while (bits_left != 0) {
+        const int lo = std::countr_zero(bits_left);
+        const int len = std::countr_one(bits_left >> lo);
+        classify_span<D>(img, width, lut, vsum, q, verdict, by, 64 * k + lo, 64 * k + lo + len - 1);
+        blocks += len;
+        bits_left = len + lo >= 64 ? 0 : bits_left & (bits::kAll << (lo + len));
+      }
+      pack_word(verdict, k, line.row(by), end.row(by));
+    }
+  }
+  return blocks;
 }
 
 }  // namespace
@@ -258,72 +316,35 @@ bool find_blobs(RunLabeler& lab, BlobRefiner& refiner, const hal::CameraFrame& f
 
 }  // namespace
 
-namespace {
-// Tracking window: the columns of the last frame's blobs (tape and end mark) widened by this
-// many pixels each side.
-constexpr int kWindowMarginPx = 48;
-
-}  // namespace
-
 bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   const int w = cam_.mount().width, h = cam_.mount().height;
   if (frame.width != w || frame.height != h) return false;
   // A camera outside what the HAL's frame can hold (or too small to decimate) is never served.
   if (w > hal::kMaxImageWidth || h > hal::kMaxImageHeight || w < 16 || h < 16) return false;
-  const int d = cfg_.decimation, cells_w = buf_->line.width;
-  bool windowed = cfg_.tracking && win_x1_ >= win_x0_;
-  // The window's pass is kept when the samples round it showed neither colour (its masks are then
-  // the whole frame's) and it found the tape; otherwise the frame is done whole.
-  if (windowed) windowed = detect_in(frame, win_x0_, win_x1_, out) && out.detected;
-  if (windowed) {
-    ++windowed_frames_;
-  } else {
-    detect_in(frame, 0, cells_w - 1, out);
-  }
-  // The next frame's window.
-  win_x0_ = 1;
-  win_x1_ = 0;
-  if (out.detected) {
-    int u0 = w, u1 = -1;
-    for (const Blob& b : out.blobs) {
-      u0 = b.u_min < u0 ? b.u_min : u0;
-      u1 = b.u_max > u1 ? b.u_max : u1;
-    }
-    if (out.end_detected) {
-      u0 = out.end_blob.u_min < u0 ? out.end_blob.u_min : u0;
-      u1 = out.end_blob.u_max > u1 ? out.end_blob.u_max : u1;
-    }
-    const int x0 = (u0 - kWindowMarginPx) / d, x1 = (u1 + kWindowMarginPx) / d;
-    win_x0_ = x0 > 0 ? x0 : 0;
-    win_x1_ = x1 < cells_w - 1 ? x1 : cells_w - 1;
-    // Not worth it when the window is most of the frame.
-    if (4 * (win_x1_ - win_x0_ + 1) > 3 * cells_w) {
-      win_x0_ = 1;
-      win_x1_ = 0;
-    }
-  }
-  return true;
-}
-
-bool LineDetector::detect_in(const hal::CameraFrame& frame, int x0, int x1, LineDetection& out) {
-  const int w = cam_.mount().width;
   const int d = cfg_.decimation;
   Buffers& bf = *buf_;
   const std::uint8_t* img = frame.bgr.data();
-  bool ok = false;
-  if (d == 2) {
-    ok = classify<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
-                     x0, x1);
-  } else if (d == 4) {
-    ok = classify<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
-                     x0, x1);
-  } else {
-    ok = classify<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(), bf.m.get(), bf.line, bf.end,
-                     x0, x1);
-  }
-  if (!ok) return false;
   // Noise cleanup: an opening of about 5 x 5 px, as the thesis's two erosions and two dilations.
   const int rounds = d == 1 ? 2 : 1;
+  const int reach = 2 * rounds;  // a kept square's cells lie within this of a sampled block
+  long blocks = 0;
+  if (d == 2) {
+    blocks = cfg_.sparse ? classify_sparse<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
+                         : classify_whole<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                             bf.m.get(), bf.line, bf.end);
+  } else if (d == 4) {
+    blocks = cfg_.sparse ? classify_sparse<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
+                         : classify_whole<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                             bf.m.get(), bf.line, bf.end);
+  } else {
+    blocks = cfg_.sparse ? classify_sparse<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
+                         : classify_whole<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                             bf.m.get(), bf.line, bf.end);
+  }
+  classified_blocks_ += std::uint64_t(blocks);
   for (const BitImage* m : {&bf.line, &bf.end}) {
     for (int i = 0; i < rounds; ++i) erode3x3(*m, *m, bf.tmp);
     for (int i = 0; i < rounds; ++i) dilate3x3(*m, *m, bf.tmp);

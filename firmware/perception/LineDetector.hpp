@@ -34,9 +34,9 @@ struct LineDetectorConfig {
   double min_area_px = 0;      // minimum blob area in full-resolution pixels; 0 = 6000 scaled by
                                // the image area relative to 640x480 (the thesis's value)
   double min_end_area_px = 0;  // minimum end-mark area; 0 = 1500 scaled the same way
-  // Classify only the columns round the last frame's blobs while the tape is tracked (see
-  // LineDetector::detect); false: every frame whole.
-  bool tracking = true;
+  // Classify only the blocks near sampled blocks of either colour (exact: see LineDetector.cpp);
+  // false: every block of every frame (the reference the tests compare it with).
+  bool sparse = true;
 
   Status validate() const;
 };
@@ -85,28 +85,23 @@ class LineDetector {
   // Processes one frame. False (and `out` untouched) when the frame's size differs from the
   // camera the detector was built for.
   //
-  // Tracking window: while the tape is tracked, only the columns round the last frame's blobs
-  // (widened by 48 px each side) are classified, and round them every third block of every
-  // third row. That pass is kept when those samples show neither colour and it found the tape:
-  // then its cleaned-up masks are exactly the whole frame's (any blob the cleanup keeps holds a
-  // sampled block). Otherwise the frame is classified whole.
+  // Sparse classification: every third block of every third row (and the last row and column)
+  // is classified, then only the blocks within 2 (at d = 1, 4) of a sampled block of either
+  // colour. The cleaned-up masks are exactly the whole frame's: every blob the cleanup keeps is
+  // a union of squares that each hold a sampled block.
   bool detect(const hal::CameraFrame& frame, LineDetection& out);
 
   const LineDetectorConfig& config() const { return cfg_; }
 
-  // Frames finished in the tracking window (for tests and profiling).
-  std::uint32_t windowed_frames() const { return windowed_frames_; }
+  // Blocks classified so far, samples included (for tests and profiling).
+  std::uint64_t classified_blocks() const { return classified_blocks_; }
 
  private:
   struct Buffers;  // mask, run and label storage, sized at construction
-  // Classifies cell columns x0..x1 (and sampled rows whole), cleans the masks up and fills `out`
-  // from them. False, `out` unspecified, when a sampled row shows a colour outside x0..x1.
-  bool detect_in(const hal::CameraFrame& frame, int x0, int x1, LineDetection& out);
   const CameraModel& cam_;
   LineDetectorConfig cfg_;
   std::unique_ptr<Buffers> buf_;
-  int win_x0_ = 1, win_x1_ = 0;  // tracking window in cell columns; empty: none
-  std::uint32_t windowed_frames_ = 0;
+  std::uint64_t classified_blocks_ = 0;
 };
 
 }  // namespace carril::fw
