@@ -19,8 +19,8 @@ TapeFrame frame_of(const Vec2& o, double h) {
 }  // namespace
 
 BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
-                               double tape_heading,
-                               const RollingGrid<std::uint8_t>* costmap) const {
+                               double tape_heading, const RollingGrid<std::uint8_t>* costmap,
+                               int excluded_side) const {
   BypassPlan p;
   p.origin = tape_point;
   p.heading = tape_heading;
@@ -66,8 +66,9 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   const double need = 2.0 * (cfg_.clearance_m + fp_.half_width_m);
   const double reach_left = p.y_max + cfg_.clearance_m + fp_.half_width_m;
   const double reach_right = -(p.y_min - cfg_.clearance_m - fp_.half_width_m);
-  const bool left_ok = free_left >= need && reach_left <= cfg_.max_lateral_m;
-  const bool right_ok = free_right >= need && reach_right <= cfg_.max_lateral_m;
+  const bool left_ok = excluded_side <= 0 && free_left >= need && reach_left <= cfg_.max_lateral_m;
+  const bool right_ok =
+      excluded_side >= 0 && free_right >= need && reach_right <= cfg_.max_lateral_m;
   if (!left_ok && !right_ok) {
     p.blocked = true;
     return p;

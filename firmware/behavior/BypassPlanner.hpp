@@ -44,9 +44,11 @@ class BypassPlanner {
   // with direction `tape_heading` (both odometry frame).
   // With a costmap, the lane the outline chose is checked on it with the footprint's clearance
   // (the robot's centre never on an inscribed or lethal cell); when that lane is blocked the
-  // other side is tried, and the plan is blocked when neither is clear.
+  // other side is tried, and the plan is blocked when neither is clear. `excluded_side` (+1 left,
+  // -1 right, 0 none) is a side already found blocked: only the other is considered.
   BypassPlan plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
-                  double tape_heading, const RollingGrid<std::uint8_t>* costmap = nullptr) const;
+                  double tape_heading, const RollingGrid<std::uint8_t>* costmap = nullptr,
+                  int excluded_side = 0) const;
   // Whether the path from `from` through p's waypoints [first, n) keeps the robot's centre off
   // inscribed and lethal cells of `costmap` (cells outside the window count as clear).
   bool lane_clear(const BypassPlan& p, const Vec2& from, std::size_t first,

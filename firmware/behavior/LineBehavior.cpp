@@ -143,6 +143,7 @@ BehaviorOutput LineBehavior::follow(const BehaviorInput& in, double dt) {
       align_heading_ = in.track.valid ? in.track.tape_heading_odom : in.odom.yaw;
       align_point_ = to_world(in.odom, Vec2(0.0, in.track.valid ? in.track.lateral_m : 0.0));
     }
+    excluded_side_ = 0;
     enter(LineState::Avoid, Phase::Stop, in.t_s);
     return out;  // zero twist: brake
   }
@@ -270,7 +271,8 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
       return out;
     }
     // Plan on the newest scan (taken after the robot stopped turning, or close enough).
-    plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_, in.costmap);
+    plan_ = planner_.plan(*in.obstacles, in.odom, align_point_, align_heading_, in.costmap,
+                          excluded_side_);
     if (plan_.blocked) {
       out.fault = Fault::PathBlocked;
       enter(LineState::Fault, Phase::Stopped, in.t_s);
@@ -282,14 +284,36 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
     }
     waypoint_ = 0;
     blocked_since_s_ = -1.0;
+    // Where the robot stands now, on the tape: a lane found blocked later backs out to here.
+    back_out_.clear();
+    back_out_.push_back(plan_.waypoints[0]);
+    back_out_.push_back(Vec2(in.odom.x, in.odom.y));
     set_phase(Phase::Bypass);
+    return out;
+  }
+  if (p == Phase::BackOut) {
+    bool done = false;
+    out.twist = path_.follow(in.odom, back_out_.begin(), back_out_.size(), back_out_index_,
+                             plan_.heading, cfg_.avoid.speed_mps, done);
+    if (done) set_phase(Phase::Align);  // face along the tape again, then plan the other side
     return out;
   }
   if (p == Phase::Bypass) {
     if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_);
-    // The costmap closes the lane ahead (the far side, now seen, meets a wall): stop here.
+    // The costmap closes the lane ahead (the far side, now seen, meets a wall, or something
+    // stands in the lane beyond what was seen at first): back out and try the other side, once,
+    // while the robot is short of the obstacle's far end; otherwise stop here.
     if (in.costmap != nullptr && in.costmap_updated &&
         !planner_.lane_clear(plan_, Vec2(in.odom.x, in.odom.y), waypoint_, *in.costmap)) {
+      const Vec2 along(std::cos(plan_.heading), std::sin(plan_.heading));
+      const double x_robot = (Vec2(in.odom.x, in.odom.y) - plan_.origin).dot(along);
+      if (excluded_side_ == 0 && waypoint_ <= 1 && x_robot < plan_.x_far) {
+        excluded_side_ = plan_.side;
+        // Still on the way to the lane: straight back to the tape; in it: along it first.
+        back_out_index_ = waypoint_ == 0 ? 1 : 0;
+        set_phase(Phase::BackOut);
+        return out;
+      }
       out.fault = Fault::PathBlocked;
       enter(LineState::Fault, Phase::Stopped, in.t_s);
       return out;

@@ -16,7 +16,8 @@
 namespace carril::fw {
 
 // Sub-states of the mission states (START: wait, find, approach, align; FOLLOW: track; SEARCH:
-// left, right, back; AVOID: stop, align, bypass, rejoin; END: approach, stopped; FAULT: stopped).
+// left, right, back; AVOID: stop, align, bypass, back_out, rejoin; END: approach, stopped; FAULT:
+// stopped).
 enum class Phase : std::uint8_t {
   Wait,
   Find,
@@ -28,15 +29,16 @@ enum class Phase : std::uint8_t {
   Back,
   Stop,
   Bypass,
+  BackOut,  // AVOID: the lane turned out blocked; back to where the bypass left the tape
   Rejoin,
   Stopped,
   Count
 };
 
 inline const char* phase_name(Phase p) {
-  static constexpr const char* kNames[] = {"wait",  "find",   "approach", "align",
-                                           "track", "left",   "right",    "back",
-                                           "stop",  "bypass", "rejoin",   "stopped"};
+  static constexpr const char* kNames[] = {"wait",     "find",   "approach", "align", "track",
+                                           "left",     "right",  "back",     "stop",  "bypass",
+                                           "back_out", "rejoin", "stopped"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) == std::size_t(Phase::Count));
   return kNames[std::size_t(p)];
 }
@@ -160,6 +162,11 @@ class LineBehavior {
   Vec2 start_target_ = Vec2::Zero();  // odometry frame
   BypassPlan plan_;
   std::size_t waypoint_ = 0;
+  // A bypass whose lane turns out blocked backs out along these (odometry frame) to where it
+  // left the tape and tries the other side, once: excluded_side_ is the side given up (0 none).
+  StaticVector<Vec2, 2> back_out_;
+  std::size_t back_out_index_ = 0;
+  int excluded_side_ = 0;
   double blocked_since_s_ = -1.0;
   bool end_done_ = false;
   std::uint32_t line_lost_ = 0, line_reacquired_ = 0, obstacles_avoided_ = 0;

@@ -106,6 +106,27 @@ TEST_F(BypassPlannerTest, BothSidesTooNarrowIsBlocked) {
   EXPECT_FALSE(p.ok);
 }
 
+// A side already found blocked (LineBehavior backs out of it) is not chosen again, even where it
+// is the freer one; with the other side walled off as well the plan is blocked.
+TEST_F(BypassPlannerTest, AnExcludedSideIsNotChosenAgain) {
+  for (const int side : {1, -1}) {
+    World w = box_ahead();
+    const Pose2 robot{};
+    const BypassPlan free_choice = planner.plan(field_of(w, robot, fp), robot, Vec2::Zero(), 0.0);
+    ASSERT_TRUE(free_choice.ok);
+    const BypassPlan p =
+        planner.plan(field_of(w, robot, fp), robot, Vec2::Zero(), 0.0, nullptr, side);
+    ASSERT_TRUE(p.ok) << side;
+    EXPECT_EQ(p.side, -side);
+    EXPECT_NEAR(p.lateral, -side * kLane, 0.01);
+    add_wall(w, {-1.0, -side * 1.3}, {5.0, -side * 1.3});  // the other side too narrow
+    const BypassPlan q =
+        planner.plan(field_of(w, robot, fp), robot, Vec2::Zero(), 0.0, nullptr, side);
+    EXPECT_TRUE(q.blocked) << side;
+    EXPECT_FALSE(q.ok);
+  }
+}
+
 TEST_F(BypassPlannerTest, WiderThanTheMaximumDetourIsBlocked) {
   World w;
   add_box(w, 1.0, 1.3, -3.0, 3.0);
