@@ -14,6 +14,15 @@ inline std::uint64_t valid_bits(int width, int k) {
   return rem >= 64 ? kAll : ((std::uint64_t{1} << rem) - 1);
 }
 
+// Sets cells a..b (inclusive, a <= b) of a bit row.
+inline void set_range(std::uint64_t* row, int a, int b) {
+  const int ka = a >> 6, kb = b >> 6;
+  for (int k = ka; k <= kb; ++k) {
+    const int lo = k == ka ? (a & 63) : 0, hi = k == kb ? (b & 63) : 63;
+    row[k] |= (kAll << lo) & (kAll >> (63 - hi));
+  }
+}
+
 // Finds runs of set cells along a row fed one word at a time, left to right.
 class RunScanner {
  public:

@@ -11,6 +11,7 @@ namespace carril::fw {
 namespace {
 
 using bits::kAll;
+using bits::set_range;
 using bits::valid_bits;
 constexpr int kMaxWords = (hal::kMaxImageWidth + 63) / 64;
 
@@ -64,14 +65,6 @@ void morph_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int he
       const std::uint64_t r = kErode ? (a & mid[k] & b) : (a | mid[k] | b);
       out[k] = k + 1 < s ? r : (r & last);
     }
-  }
-}
-
-void set_range(std::uint64_t* row, int a, int b) {
-  const int ka = a >> 6, kb = b >> 6;
-  for (int k = ka; k <= kb; ++k) {
-    const int lo = k == ka ? (a & 63) : 0, hi = k == kb ? (b & 63) : 63;
-    row[k] |= (kAll << lo) & (kAll >> (63 - hi));
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <type_traits>
 
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/BlobLabeler.hpp"
@@ -63,16 +64,6 @@ constexpr int kSampleEvery = 3;
 int next_sample(int i, int n) {
   if (i + kSampleEvery < n) return i + kSampleEvery;
   return i == n - 1 ? n : n - 1;
-}
-
-// Sets cells a..b (inclusive) of a bit row.
-void set_cells(std::uint64_t* row, int a, int b) {
-  for (int k = a / 64; k <= b / 64; ++k) {
-    const int lo = k * 64 > a ? 0 : a - k * 64;
-    const int hi = (k + 1) * 64 - 1 < b ? 63 : b - k * 64;
-    const std::uint64_t upto = hi == 63 ? bits::kAll : ((std::uint64_t{1} << (hi + 1)) - 1);
-    row[k] |= upto & (bits::kAll << lo);
-  }
 }
 
 // The table verdict of block (x, by): bit 0 tape colour, bit 1 end-mark colour.
@@ -173,7 +164,8 @@ long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut
       if (block_verdict<D>(img, row_bytes, lut, x, by) == 0) continue;
       const int a = x - reach > 0 ? x - reach : 0, b = x + reach < w - 1 ? x + reach : w - 1;
       const int y1 = by + reach < h - 1 ? by + reach : h - 1;
-      for (int y = by - reach > 0 ? by - reach : 0; y <= y1; ++y) set_cells(need.row(y), a, b);
+      for (int y = by - reach > 0 ? by - reach : 0; y <= y1; ++y)
+        bits::set_range(need.row(y), a, b);
     }
   }
   for (int by = 0; by < h; ++by) {
@@ -327,23 +319,17 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   // Noise cleanup: an opening of about 5 x 5 px, as the thesis's two erosions and two dilations.
   const int rounds = d == 1 ? 2 : 1;
   const int reach = 2 * rounds;  // a kept square's cells lie within this of a sampled block
-  long blocks = 0;
-  if (d == 2) {
-    blocks = cfg_.sparse ? classify_sparse<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
-                         : classify_whole<2>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                             bf.m.get(), bf.line, bf.end);
-  } else if (d == 4) {
-    blocks = cfg_.sparse ? classify_sparse<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
-                         : classify_whole<4>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                             bf.m.get(), bf.line, bf.end);
-  } else {
-    blocks = cfg_.sparse ? classify_sparse<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                              bf.m.get(), bf.line, bf.end, bf.tmp, reach)
-                         : classify_whole<1>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                             bf.m.get(), bf.line, bf.end);
-  }
+  // One call for each decimation, the sparse pass or (the reference) every block.
+  const auto classify = [&](auto decimation) {
+    constexpr int D = decltype(decimation)::value;
+    return cfg_.sparse ? classify_sparse<D>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                            bf.m.get(), bf.line, bf.end, bf.tmp, reach)
+                       : classify_whole<D>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
+                                           bf.m.get(), bf.line, bf.end);
+  };
+  const long blocks = d == 2   ? classify(std::integral_constant<int, 2>{})
+                      : d == 4 ? classify(std::integral_constant<int, 4>{})
+                               : classify(std::integral_constant<int, 1>{});
   classified_blocks_ += std::uint64_t(blocks);
   for (const BitImage* m : {&bf.line, &bf.end}) {
     for (int i = 0; i < rounds; ++i) erode3x3(*m, *m, bf.tmp);
