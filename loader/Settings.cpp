@@ -82,6 +82,8 @@ const Field kFields[] = {
                   follow_line.behavior.avoid.max_lateral_m),
     CARRIL_NUMBER(Mission, "behavior.avoid.blocked_timeout_s", "behavior.avoid.blocked_timeout_s",
                   follow_line.behavior.avoid.blocked_timeout_s),
+    CARRIL_NUMBER(Mission, "behavior.avoid.lookahead_m", "behavior.avoid.lookahead_m",
+                  follow_line.behavior.avoid.lookahead_m),
     // Mission file: the strategies' gains (StrategyConfig; the strategy and its cruise speed are
     // the mission's `strategy` and `speed_mps`).
     CARRIL_NUMBER(Mission, "strategy_gains.marks_lookahead_m", "strategy.marks_lookahead_m",

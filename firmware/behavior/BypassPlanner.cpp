@@ -27,13 +27,14 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   const TapeFrame tf = frame_of(tape_point, tape_heading);
   const auto& pts = f.points();
   const double x_robot = tf.to(Vec2(odom.x, odom.y)).x();
-  // The nearest point ahead within the robot's corridor along the tape.
+  // The nearest point ahead within the robot's corridor along the tape, and near enough.
   const double half = fp_.half_width_m + cfg_.corridor_margin_m;
+  const double x_reach = x_robot + fp_.half_length_m + cfg_.lookahead_m;
   std::size_t nearest = pts.size();
   double best = 1e9;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Vec2 q = tf.to(pts[i]);
-    if (q.x() > x_robot && std::fabs(q.y()) <= half && q.x() < best) {
+    if (q.x() > x_robot && q.x() <= x_reach && std::fabs(q.y()) <= half && q.x() < best) {
       best = q.x();
       nearest = i;
     }
@@ -85,8 +86,7 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   set_waypoints(p, x_robot);
   p.ok = true;
   if (costmap != nullptr) {
-    const Vec2 robot(odom.x, odom.y);
-    if (lane_clear(p, robot, 0, *costmap)) return p;
+    if (lane_clear(p, odom, 0, *costmap)) return p;
     // The other side, where the outline allows it.
     const bool other_ok = p.side > 0 ? right_ok : left_ok;
     if (other_ok) {
@@ -94,7 +94,7 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
       q.side = -p.side;
       q.lateral = q.side > 0 ? reach_left : -reach_right;
       set_waypoints(q, x_robot);
-      if (lane_clear(q, robot, 0, *costmap)) return q;
+      if (lane_clear(q, odom, 0, *costmap)) return q;
     }
     p.ok = false;
     p.blocked = true;
@@ -102,24 +102,79 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   return p;
 }
 
-bool BypassPlanner::lane_clear(const BypassPlan& p, const Vec2& from, std::size_t first,
+bool BypassPlanner::lane_clear(const BypassPlan& p, const Pose2& from, std::size_t first,
                                const RollingGrid<std::uint8_t>& costmap) const {
-  const double step = 0.5 * costmap.resolution();
-  Vec2 a = from;
+  const double res = costmap.resolution();
+  const double step = 0.5 * res;
+  // A lethal cell holds an obstacle point somewhere inside it: half its diagonal on top.
+  const double margin = cfg_.emergency_m + 0.71 * res;
+  const double turn_radius = std::hypot(fp_.half_length_m, fp_.half_width_m) + cfg_.emergency_m;
+  const Vec2 start(from.x, from.y);
+  const auto judged = [&](const Vec2& q) { return (q - start).norm() >= res; };
+  Vec2 a = start;
+  double yaw = from.yaw;
   for (std::size_t i = first; i < p.waypoints.size(); ++i) {
     const Vec2 b = p.waypoints[i];
     const double len = (b - a).norm();
+    if (len < 1e-6) continue;
+    const double leg_yaw = holonomic_ ? p.heading : std::atan2(b.y() - a.y(), b.x() - a.x());
+    // A differential robot turns on the spot onto the leg first.
+    if (!holonomic_ && std::fabs(wrap_angle(leg_yaw - yaw)) > 0.05 && judged(a) &&
+        !disc_clear(a, turn_radius, costmap))
+      return false;
+    yaw = leg_yaw;
     const int n = static_cast<int>(std::ceil(len / step));
     for (int k = 1; k <= n; ++k) {
       const Vec2 q = a + (b - a) * (double(k) / n);
-      // Where the robot stands now is not judged (it may stand in an inflation ring).
-      if ((q - from).norm() < fp_.half_width_m) continue;
-      int cx = 0, cy = 0;
-      if (!costmap.world_to_cell(q.x(), q.y(), cx, cy)) continue;
-      const std::uint8_t c = costmap.at(cx, cy);
-      if (c == cost::kInscribed || c == cost::kLethal) return false;
+      if (judged(q) && !body_clear(q, yaw, margin, costmap)) return false;
     }
     a = b;
+  }
+  // ...and at the end onto the tape again.
+  if (!holonomic_ && std::fabs(wrap_angle(p.heading - yaw)) > 0.05 && judged(a) &&
+      !disc_clear(a, turn_radius, costmap))
+    return false;
+  return true;
+}
+
+bool BypassPlanner::body_clear(const Vec2& c, double yaw, double margin,
+                               const RollingGrid<std::uint8_t>& costmap) const {
+  // The grown rectangle's outline, sampled at half a cell: the body moves in steps of half a
+  // cell too, so nothing lethal gets inside without crossing the outline first.
+  const double hl = fp_.half_length_m + margin, hw = fp_.half_width_m + margin;
+  const Vec2 u(std::cos(yaw), std::sin(yaw)), v(-u.y(), u.x());
+  const double step = 0.5 * costmap.resolution();
+  const auto lethal = [&](double s, double t) {
+    const Vec2 q = c + s * u + t * v;
+    int cx = 0, cy = 0;
+    return costmap.world_to_cell(q.x(), q.y(), cx, cy) && costmap.at(cx, cy) == cost::kLethal;
+  };
+  const int nl = static_cast<int>(std::ceil(2.0 * hl / step));
+  for (int k = 0; k <= nl; ++k) {
+    const double s = -hl + 2.0 * hl * k / nl;
+    if (lethal(s, hw) || lethal(s, -hw)) return false;
+  }
+  const int nw = static_cast<int>(std::ceil(2.0 * hw / step));
+  for (int k = 1; k < nw; ++k) {
+    const double t = -hw + 2.0 * hw * k / nw;
+    if (lethal(hl, t) || lethal(-hl, t)) return false;
+  }
+  return true;
+}
+
+bool BypassPlanner::disc_clear(const Vec2& c, double radius,
+                               const RollingGrid<std::uint8_t>& costmap) {
+  const double res = costmap.resolution();
+  const int x0 = costmap.cell_of(c.x() - radius), x1 = costmap.cell_of(c.x() + radius);
+  const int y0 = costmap.cell_of(c.y() - radius), y1 = costmap.cell_of(c.y() + radius);
+  for (int cy = y0; cy <= y1; ++cy) {
+    for (int cx = x0; cx <= x1; ++cx) {
+      if (!costmap.contains(cx, cy) || costmap.at(cx, cy) != cost::kLethal) continue;
+      // The cell's nearest point to the centre.
+      const double nx = clampd(c.x(), cx * res, (cx + 1) * res);
+      const double ny = clampd(c.y(), cy * res, (cy + 1) * res);
+      if (std::hypot(nx - c.x(), ny - c.y()) < radius) return false;
+    }
   }
   return true;
 }
@@ -171,6 +226,7 @@ Status AvoidConfig::validate() const {
       .range("emergency_m", emergency_m, 0.0, 1.0, "m")
       .range("max_lateral_m", max_lateral_m, 0.1, 20.0, "m")
       .range("blocked_timeout_s", blocked_timeout_s, 0.1, 60.0, "s")
+      .range("lookahead_m", lookahead_m, 0.1, 20.0, "m")
       .result();
 }
 

@@ -21,6 +21,10 @@ struct AvoidConfig {
   double emergency_m = 0.05;       // any point this close to the body stops the robot [m]
   double max_lateral_m = 2.5;      // never detour further than this from the tape [m]
   double blocked_timeout_s = 3.0;  // stopped this long by something in the way: give up [s]
+  // Only an obstacle starting within this of the bumper, along the tape, is planned round: after
+  // turning onto the tape out of a curve, what stopped the robot may stand beside the tape, and
+  // a wall far down the tape is not in the way yet [m].
+  double lookahead_m = 2.0;
 
   Status validate() const;
 };
@@ -38,28 +42,39 @@ struct BypassPlan {
 
 class BypassPlanner {
  public:
-  BypassPlanner(const AvoidConfig& cfg, const Footprint& fp) : cfg_(cfg), fp_(fp) {}
+  // `holonomic`: the robot keeps the tape's heading while it passes (mecanum); otherwise it
+  // faces along each leg and turns on the spot at its ends.
+  BypassPlanner(const AvoidConfig& cfg, const Footprint& fp, bool holonomic)
+      : cfg_(cfg), fp_(fp), holonomic_(holonomic) {}
 
   // Plans round the obstacle nearest ahead of a robot at `odom` on a tape through `tape_point`
   // with direction `tape_heading` (both odometry frame).
-  // With a costmap, the lane the outline chose is checked on it with the footprint's clearance
-  // (the robot's centre never on an inscribed or lethal cell); when that lane is blocked the
-  // other side is tried, and the plan is blocked when neither is clear. `excluded_side` (+1 left,
-  // -1 right, 0 none) is a side already found blocked: only the other is considered.
+  // With a costmap, the lane the outline chose is checked on it (lane_clear); when it is blocked
+  // the other side is tried, and the plan is blocked when neither is clear. `excluded_side` (+1
+  // left, -1 right, 0 none) is a side already found blocked: only the other is considered.
   BypassPlan plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
                   double tape_heading, const RollingGrid<std::uint8_t>* costmap = nullptr,
                   int excluded_side = 0) const;
-  // Whether the path from `from` through p's waypoints [first, n) keeps the robot's centre off
-  // inscribed and lethal cells of `costmap` (cells outside the window count as clear).
-  bool lane_clear(const BypassPlan& p, const Vec2& from, std::size_t first,
+  // Whether the robot, driven from `from` through p's waypoints [first, n), keeps its whole body
+  // at least emergency_m off every lethal cell of `costmap`: the rectangle swept along each leg
+  // (holding the tape's heading, or facing along the leg), and for a differential robot the
+  // circle it sweeps turning at each leg's start and at the end. Cells outside the window count
+  // as clear; poses within one cell of `from` are not judged (the robot is already there).
+  bool lane_clear(const BypassPlan& p, const Pose2& from, std::size_t first,
                   const RollingGrid<std::uint8_t>& costmap) const;
   // Extends `p` if a newer scan shows the obstacle reaching further along the tape.
   void refine(const ObstacleField& f, BypassPlan& p) const;
 
  private:
   void set_waypoints(BypassPlan& p, double x_robot) const;
+  // The body at `c` facing `yaw`, grown by `margin` [m], touches no lethal cell.
+  bool body_clear(const Vec2& c, double yaw, double margin,
+                  const RollingGrid<std::uint8_t>& costmap) const;
+  // Nothing lethal within `radius` [m] of `c` (the circle a body turning on the spot sweeps).
+  static bool disc_clear(const Vec2& c, double radius, const RollingGrid<std::uint8_t>& costmap);
   AvoidConfig cfg_;
   Footprint fp_;
+  bool holonomic_;
 };
 
 }  // namespace carril::fw

@@ -304,7 +304,7 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
     // stands in the lane beyond what was seen at first): back out and try the other side, once,
     // while the robot is short of the obstacle's far end; otherwise stop here.
     if (in.costmap != nullptr && in.costmap_updated &&
-        !planner_.lane_clear(plan_, Vec2(in.odom.x, in.odom.y), waypoint_, *in.costmap)) {
+        !planner_.lane_clear(plan_, in.odom, waypoint_, *in.costmap)) {
       const Vec2 along(std::cos(plan_.heading), std::sin(plan_.heading));
       const double x_robot = (Vec2(in.odom.x, in.odom.y) - plan_.origin).dot(along);
       if (excluded_side_ == 0 && waypoint_ <= 1 && x_robot < plan_.x_far) {

@@ -20,7 +20,7 @@ FollowLineMission::FollowLineMission(const FollowLineConfig& cfg, const Footprin
     : cfg_(cfg),
       lidar_present_(lidar_present),
       line_(cfg.strategy, holonomic),
-      planner_(cfg.behavior.avoid, footprint),
+      planner_(cfg.behavior.avoid, footprint, holonomic),
       behavior_(cfg.behavior, line_, planner_, holonomic),
       odom_(odom),
       obs_(line),

@@ -164,7 +164,7 @@ struct Sim {
         scfg(strategy(s)),
         holonomic(holo),
         line(scfg, holo),
-        planner(cfg.avoid, fp),
+        planner(cfg.avoid, fp, holo),
         mb(cfg, line, planner, holo),
         field(fp, 0.0, 0.0, 0.0) {}
 

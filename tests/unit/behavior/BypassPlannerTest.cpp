@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "firmware/mapping/CostValues.hpp"
+#include "firmware/mapping/RollingGrid.hpp"
 #include "tests/unit/behavior/BehaviorBuilders.hpp"
 
 namespace carril::fw {
@@ -26,7 +28,7 @@ class BypassPlannerTest : public testing::Test {
   }
   AvoidConfig cfg;
   Footprint fp;
-  BypassPlanner planner{cfg, fp};
+  BypassPlanner planner{cfg, fp, false};
 };
 
 // A 1 m box on the tape 1 m ahead of the robot's centre.
@@ -223,6 +225,75 @@ TEST_F(BypassPlannerTest, RefineLeavesAFailedPlanAlone) {
   planner.refine(field_of(box_ahead(), Pose2{}, fp), p);
   EXPECT_FALSE(p.ok);
   EXPECT_EQ(p.waypoints.size(), 0U);
+}
+
+// A free 10 m x 10 m costmap round the origin at 5 cm, with lethal cells at `points`.
+RollingGrid<std::uint8_t> costmap_with(std::initializer_list<Vec2> points) {
+  RollingGrid<std::uint8_t> g;
+  g.init(200, 200, 0.05, cost::kFree);
+  g.recenter(0.0, 0.0);
+  for (const Vec2& q : points) {
+    int cx = 0, cy = 0;
+    if (g.world_to_cell(q.x(), q.y(), cx, cy)) g.at(cx, cy) = cost::kLethal;
+  }
+  return g;
+}
+
+// The lane check keeps the whole body off lethal cells, not only its centre: a post 3 cm beyond
+// the front of the body where the lane ends (the centre 0.28 m from it, further than the robot's
+// inscribed radius) closes the lane; 30 cm further on (clear of the turn onto the way back) it
+// does not.
+TEST_F(BypassPlannerTest, TheLaneCheckKeepsTheWholeBodyOffLethalCells) {
+  const BypassPlan p = plan_from(box_ahead());
+  ASSERT_TRUE(p.ok);
+  const Vec2 past = p.waypoints[1];
+  const Vec2 clip(past.x() + fp.half_length_m + 0.03, past.y());
+  EXPECT_FALSE(planner.lane_clear(p, Pose2{}, 0, costmap_with({clip})));
+  EXPECT_TRUE(planner.lane_clear(p, Pose2{}, 0, costmap_with({clip + Vec2(0.3, 0.0)})));
+  EXPECT_TRUE(planner.lane_clear(p, Pose2{}, 0, costmap_with({})));
+  // Planned with that costmap, the post sends the robot round the other side.
+  const RollingGrid<std::uint8_t> cm = costmap_with({clip});
+  const BypassPlan q =
+      planner.plan(field_of(box_ahead(), Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0, &cm);
+  ASSERT_TRUE(q.ok);
+  EXPECT_EQ(q.side, -p.side);
+  // ...and with both sides' lanes closed the plan is blocked.
+  const Vec2 other(clip.x(), -clip.y());
+  const RollingGrid<std::uint8_t> both = costmap_with({clip, other});
+  const BypassPlan r =
+      planner.plan(field_of(box_ahead(), Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0, &both);
+  EXPECT_TRUE(r.blocked);
+  EXPECT_FALSE(r.ok);
+}
+
+// A differential robot turns on the spot where the leg aside ends, sweeping the circle round its
+// corners; a holonomic one slides on, facing along the tape. A post inside that circle but clear
+// of the sliding body closes only the differential robot's lane.
+TEST_F(BypassPlannerTest, ADifferentialRobotsTurnOnTheSpotIsChecked) {
+  const Footprint longer{0.5, 0.2};
+  const BypassPlanner diff(cfg, longer, false), holo(cfg, longer, true);
+  const BypassPlan p =
+      diff.plan(field_of(box_ahead(), Pose2{}, longer), Pose2{}, Vec2::Zero(), 0.0);
+  ASSERT_TRUE(p.ok);
+  const Vec2 aside = p.waypoints[0];  // (0, lateral)
+  const double out = p.side;          // away from the tape
+  // 0.53 m from the turn's centre (circumscribed radius 0.54), 0.15 m beyond the side of the body.
+  const RollingGrid<std::uint8_t> cm = costmap_with({aside + Vec2(-0.4, out * 0.35)});
+  EXPECT_FALSE(diff.lane_clear(p, Pose2{}, 0, cm));
+  EXPECT_TRUE(holo.lane_clear(p, Pose2{}, 0, cm));
+}
+
+// What stopped the robot may stand beside the tape once it has turned onto it; the next thing
+// down the tape (a wall 8 m on) is not planned round until it is within lookahead_m of the bumper.
+TEST_F(BypassPlannerTest, AnObstacleBeyondTheLookaheadIsNotPlannedRound) {
+  World w;
+  add_box(w, 3.0, 4.0, -0.5, 0.5);  // 2.75 m from the bumper
+  EXPECT_FALSE(plan_from(w).ok);
+  EXPECT_FALSE(plan_from(w).blocked);
+  AvoidConfig far = cfg;
+  far.lookahead_m = 3.0;
+  const BypassPlanner further(far, fp, false);
+  EXPECT_TRUE(further.plan(field_of(w, Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0).ok);
 }
 
 }  // namespace

@@ -256,7 +256,7 @@ INSTANTIATE_TEST_SUITE_P(Drive, LineBehaviorEnd, testing::Values(true, false),
 TEST(LineBehaviorTest, TakePhaseChangeReturnsEachNewPhaseOnce) {
   BehaviorConfig cfg;
   LineController line(StrategyConfig{}, false);
-  BypassPlanner planner(cfg.avoid, Footprint{});
+  BypassPlanner planner(cfg.avoid, Footprint{}, false);
   LineBehavior mb(cfg, line, planner, false);
   EXPECT_EQ(mb.take_phase_change(), nullptr);
   BehaviorInput in;

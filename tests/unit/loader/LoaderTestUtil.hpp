@@ -158,6 +158,7 @@ inline void expect_same(const fw::FirmwareConfig& a, const fw::FirmwareConfig& b
   CARRIL_SAME(follow_line.behavior.avoid.emergency_m);
   CARRIL_SAME(follow_line.behavior.avoid.max_lateral_m);
   CARRIL_SAME(follow_line.behavior.avoid.blocked_timeout_s);
+  CARRIL_SAME(follow_line.behavior.avoid.lookahead_m);
   CARRIL_SAME(follow_line.tape_preview_m);
 #undef CARRIL_SAME
 }

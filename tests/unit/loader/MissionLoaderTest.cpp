@@ -102,7 +102,7 @@ TEST(MissionLoader, UnknownKeysListTheAllowedOnes) {
   EXPECT_EQ(nested.error, at(nested.path, 10) +
                               "behavior.avoid.clearence_m: unknown key (allowed: "
                               "corridor_margin_m, clearance_m, speed_mps, emergency_m, "
-                              "max_lateral_m, blocked_timeout_s)");
+                              "max_lateral_m, blocked_timeout_s, lookahead_m)");
   const Loaded gains = load(edit(kMission, "pid_curve: {kp", "pid_curve: {kpp"));
   EXPECT_EQ(gains.error, at(gains.path, 13) +
                              "strategy_gains.pid_curve.kpp: unknown key (allowed: kp, ki, kd, "
