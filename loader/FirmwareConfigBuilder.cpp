@@ -208,6 +208,7 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
   c.lidar.rate_hz = r.lidar.rate_hz;
   c.watch.imu_present = r.imu.present;
+  c.gyro_heading = r.imu.present && r.imu.gyro_heading;
   c.camera.detector.line = detector_threshold(mission.line_color_name, mission.line_color);
   c.camera.detector.end = detector_threshold(mission.end_color_name, mission.end_color);
   fw::StrategyConfig& st = c.follow_line.strategy;

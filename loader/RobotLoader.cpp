@@ -237,8 +237,14 @@ RobotSpec parse_preset(const Node& root) {
   parse_lidar(root.at("lidar"), r.lidar, true);
   if (auto l3 = root.get("lidar3d")) parse_lidar3d(*l3, r.lidar3d, true);
   if (auto imu = root.get("imu")) {
-    imu->expect_map({"present"});
+    imu->expect_map({"present", "gyro_heading", "gyro_noise_std_radps", "gyro_bias_radps"});
     r.imu.present = imu->at("present").boolean();
+    if (auto g = imu->get("gyro_heading")) r.imu.gyro_heading = g->boolean();
+    // Simulated only, so never required.
+    if (auto n = imu->get("gyro_noise_std_radps"))
+      r.imu.gyro_noise_std_radps = n->number(Range::closed(0.0, 1.0));
+    if (auto n = imu->get("gyro_bias_radps"))
+      r.imu.gyro_bias_radps = n->number(Range::closed(-0.5, 0.5));
   }
   parse_limits(root.at("limits"), r.limits, true);
   parse_traversability(root.at("traversability"), r.traversability, true);

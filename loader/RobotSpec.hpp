@@ -58,7 +58,11 @@ struct Lidar3dSpec {
 };
 
 struct ImuSpec {
-  bool present = true;  // an IMU is fitted: the firmware checks its samples
+  bool present = true;       // an IMU is fitted: the firmware checks its samples
+  bool gyro_heading = true;  // the odometry takes its heading from the gyro (needs present)
+  // Simulated only: what the yaw rate carries besides the truth.
+  double gyro_noise_std_radps = 0.0;  // white noise on each sample [rad/s]
+  double gyro_bias_radps = 0.0;       // constant bias left after calibration [rad/s]
 };
 
 struct LimitsSpec {

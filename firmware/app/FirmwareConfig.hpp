@@ -26,6 +26,9 @@ struct FirmwareConfig {
   DriveGeometry drive;
   double footprint_length_m = 0.5, footprint_width_m = 0.5;  // body outline [m]
   MotionLimits limits;
+  // The odometry's heading from the IMU's yaw rate (wheels only while no good sample comes);
+  // needs watch.imu_present.
+  bool gyro_heading = true;
 
   LinePerceptionConfig camera;  // camera mount and rate, tape colours, frame health
   ObstacleSensingConfig lidar;  // lidar mount and rate, scan health

@@ -10,7 +10,7 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad),
       controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
       watch(cfg.watch, cfg.lidar.present, bus.frame, bus.odometry, controller),
-      odometry(kinematics, bus.frame, bus.odometry),
+      odometry(kinematics, bus.frame, bus.odometry, cfg.gyro_heading && cfg.watch.imu_present),
       localisation(cfg.localisation, cfg.map, bus.frame, bus.odometry, bus.pose),
       perception(cfg.camera, bus.frame, bus.odometry, bus.line, controller),
       obstacle_sensing(cfg.lidar, bus.frame, bus.odometry, bus.obstacles, controller),

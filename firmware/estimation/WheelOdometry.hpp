@@ -1,6 +1,6 @@
 #pragma once
-// Component: dead reckoning from the wheel encoders. Reads the sensor frame, publishes the
-// odometry pose and the measured body twist every tick.
+// Component: dead reckoning from the wheel encoders (and the gyro's heading, `gyro_heading`).
+// Reads the sensor frame, publishes the odometry pose and the measured body twist every tick.
 #include <cstdint>
 
 #include "firmware/core/Frames.hpp"
@@ -22,15 +22,17 @@ struct OdometryMsg {
 };
 
 struct WheelOdometryTelemetry {
-  std::uint64_t updates = 0;  // encoder readings integrated
-  double distance_m = 0.0;    // path length driven, from the encoders [m]
+  std::uint64_t updates = 0;      // encoder readings integrated
+  double distance_m = 0.0;        // path length driven, from the encoders [m]
+  std::uint64_t gyro_steps = 0;   // steps whose heading change came from the gyro [count]
+  std::uint64_t wheel_steps = 0;  // ... and from the wheels [count]
 };
 
 class WheelOdometry {
  public:
   WheelOdometry(const DriveKinematics& kin, const Topic<SensorFrame>& frame,
-                Topic<OdometryMsg>& out)
-      : odom_(kin), frame_(frame), out_(out) {}
+                Topic<OdometryMsg>& out, bool gyro_heading = false)
+      : odom_(kin, gyro_heading), frame_(frame), out_(out) {}
 
   // Task: one encoder reading in, one odometry message out.
   void run();

@@ -76,7 +76,7 @@ void SimRun::publish_sensors(hal::TimeNs t) {
   hal::ImuSample imu;
   imu.stamp_ns = t;
   imu.valid = true;
-  imu.yaw_rate_radps = float(wz);
+  imu.yaw_rate_radps = topo_.gyro.read(wz);
   // From the ground under the wheels (pitch positive nose up, roll positive left side up).
   const Attitude att = w.attitude();
   imu.roll_rad = float(att.roll_rad);

@@ -145,6 +145,7 @@ SimTopology::SimTopology(const Scenario& s, std::uint64_t seed, const ConfigTwea
       camera_renderer(s, seed),
       lidar(s.robot.lidar, seed),
       encoders(s.odometry, seed),
+      gyro(s.robot.imu, seed),
       drives(world.wheel_count()),
       devices{clock, drives, camera, scanner, imu, &cloud},
       config(checked(firmware_config(s, &static_map, seed), tweak, s)),

@@ -17,6 +17,7 @@
 #include "hal/sim/SimPointCloud.hpp"
 #include "host_sim/scenario/Scenario.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
+#include "host_sim/sensors/GyroSim.hpp"
 #include "host_sim/sensors/Lidar3dSim.hpp"
 #include "host_sim/sensors/LidarSim.hpp"
 #include "host_sim/sensors/WheelEncoderSim.hpp"
@@ -56,6 +57,7 @@ struct SimTopology {
   CameraRenderer camera_renderer;
   LidarSim lidar;
   WheelEncoderSim encoders;             // the wheel readings, with the scenario's odometry drift
+  GyroSim gyro;                         // the IMU's yaw rate, with the robot's gyro errors
   std::unique_ptr<Lidar3dSim> lidar3d;  // only when the firmware maps terrain with it
   // The HAL backends the firmware sees (filled by the simulator in lockstep).
   hal::SimClock clock;

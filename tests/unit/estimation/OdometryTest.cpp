@@ -159,5 +159,86 @@ TEST(OdometryTest, IgnoresShortFeedback) {
   EXPECT_NEAR(odo.pose().x, 1.0, 1e-9);
 }
 
+hal::ImuSample gyro(hal::TimeNs t_ns, double rate_radps, bool valid = true) {
+  hal::ImuSample s;
+  s.stamp_ns = t_ns;
+  s.valid = valid;
+  s.yaw_rate_radps = float(rate_radps);
+  return s;
+}
+
+constexpr hal::TimeNs kStepNs = 10'000'000;  // 100 Hz
+
+// A slipping wheel: the encoders claim the robot turned while it drove straight; the gyro says
+// it did not. The heading follows the gyro and the metre driven stays on the x axis.
+TEST(OdometryTest, GyroHeadingIgnoresAWheelsSlip) {
+  const DriveKinematics kin = differential();
+  Odometry wheels(kin, false), fused(kin, true);
+  double pos[2] = {0.0, 0.0};
+  for (int k = 0; k <= 100; ++k) {
+    // The right wheel reads 5 % more than it rolled.
+    pos[0] = 10.0 * k / 100;
+    pos[1] = 10.5 * k / 100;
+    wheels.update(feedback(2, pos), gyro(k * kStepNs, 0.0));
+    fused.update(feedback(2, pos), gyro(k * kStepNs, 0.0));
+  }
+  EXPECT_NEAR(wheels.pose().yaw, 0.5 * kR / kTrack, 1e-9);  // 0.125 rad from the slip
+  EXPECT_GT(std::fabs(wheels.pose().y), 0.05);
+  EXPECT_NEAR(fused.pose().yaw, 0.0, 1e-12);
+  EXPECT_NEAR(fused.pose().y, 0.0, 1e-12);
+  EXPECT_NEAR(fused.pose().x, 1.025, 1e-9);  // the translation is still the wheels'
+  EXPECT_EQ(fused.gyro_steps(), 100U);
+  EXPECT_EQ(wheels.gyro_steps(), 0U);
+}
+
+// The yaw rate is integrated over the samples' own interval (trapezoid): a sample that did not
+// change since the last step adds nothing, and the next one integrates the whole interval.
+TEST(OdometryTest, GyroIntegratesOverTheSampleInterval) {
+  const DriveKinematics kin = differential();
+  Odometry odo(kin, true);
+  const double still[2] = {0.0, 0.0};
+  odo.update(feedback(2, still), gyro(0, 1.0));
+  odo.update(feedback(2, still), gyro(kStepNs, 1.0));
+  EXPECT_NEAR(odo.pose().yaw, 0.01, 1e-9);
+  // Stale: the same sample again, while the wheels say the robot turned. The gyro's heading
+  // waits for its next sample; the wheels' turn is not taken.
+  const double turned[2] = {-0.02, 0.02};
+  odo.update(feedback(2, turned), gyro(kStepNs, 1.0));
+  EXPECT_NEAR(odo.pose().yaw, 0.01, 1e-9);
+  EXPECT_EQ(odo.gyro_steps(), 2U);
+  odo.update(feedback(2, turned), gyro(3 * kStepNs, 2.0));  // 20 ms from 1 to 2 rad/s
+  EXPECT_NEAR(odo.pose().yaw, 0.01 + 0.03, 1e-7);
+}
+
+// No good sample (invalid, NaN, or after a gap longer than kMaxGyroGapNs): the step's heading
+// change is the wheels', and the gyro takes over again from the next good pair of samples.
+TEST(OdometryTest, WithoutAGoodGyroSampleTheWheelsTurnTheHeading) {
+  const DriveKinematics kin = differential();
+  const double a = 0.01 * (kTrack / 2) / kR;  // a wheel turn of 0.01 rad of heading per step
+  double pos[2] = {0.0, 0.0};
+  Odometry odo(kin, true);
+  hal::TimeNs t = 0;
+  const auto step = [&](const hal::ImuSample& s) {
+    pos[0] -= a;
+    pos[1] += a;
+    odo.update(feedback(2, pos), s);
+  };
+  odo.update(feedback(2, pos), gyro(t, 0.0));
+  step(gyro(t += kStepNs, 0.0));  // gyro: no turn
+  EXPECT_NEAR(odo.pose().yaw, 0.0, 1e-12);
+  step(gyro(t += kStepNs, 0.0, false));  // invalid: the wheels' 0.01
+  EXPECT_NEAR(odo.pose().yaw, 0.01, 1e-9);
+  step(gyro(t += kStepNs, std::nan("")));  // NaN: the wheels'
+  EXPECT_NEAR(odo.pose().yaw, 0.02, 1e-9);
+  step(gyro(t += kStepNs, 0.0));  // the first good sample again only primes
+  EXPECT_NEAR(odo.pose().yaw, 0.03, 1e-9);
+  step(gyro(t += kStepNs, 0.0));  // the gyro again
+  EXPECT_NEAR(odo.pose().yaw, 0.03, 1e-9);
+  step(gyro(t += Odometry::kMaxGyroGapNs + 1, 0.0));  // too long a gap: the wheels'
+  EXPECT_NEAR(odo.pose().yaw, 0.04, 1e-9);
+  EXPECT_EQ(odo.gyro_steps(), 2U);
+  EXPECT_EQ(odo.wheel_steps(), 5U);  // the priming step included
+}
+
 }  // namespace
 }  // namespace carril::fw

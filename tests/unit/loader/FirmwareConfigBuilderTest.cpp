@@ -115,6 +115,7 @@ TEST(FirmwareConfigBuilder, TheRobotTargetsFilesBuild) {
   EXPECT_EQ(plain.config.follow_line.strategy.strategy, fw::Strategy::LinePriority);
   EXPECT_TRUE(plain.config.lidar.present);
   EXPECT_TRUE(plain.config.watch.imu_present);
+  EXPECT_TRUE(plain.config.gyro_heading);
 }
 
 TEST(FirmwareConfigBuilder, SensorsNotFittedAreTold) {
@@ -125,6 +126,13 @@ TEST(FirmwareConfigBuilder, SensorsNotFittedAreTold) {
   ASSERT_TRUE(b.ok) << b.error;
   EXPECT_FALSE(b.config.lidar.present);
   EXPECT_FALSE(b.config.watch.imu_present);
+  EXPECT_FALSE(b.config.gyro_heading);  // no IMU, no gyro heading, whatever the file says
+  r.imu.present = true;
+  r.imu.gyro_heading = false;
+  const BuildResult wheels = build_firmware_config(r, mission("pid", 0.5));
+  ASSERT_TRUE(wheels.ok) << wheels.error;
+  EXPECT_TRUE(wheels.config.watch.imu_present);
+  EXPECT_FALSE(wheels.config.gyro_heading);
 }
 
 // The preset's ranges lie inside the firmware's: any robot file the loader accepts gives a

@@ -16,9 +16,14 @@ using test::source_path;
 using test::write_file;
 
 const std::string kCampero = read_text(source_path("config/robots/campero.yaml"));
-// The line of a key appended to kCampero.
+// The preset without its `imu:` line, and the line of a key appended to that.
+const std::string kImuLine = [] {
+  const std::size_t at = kCampero.find("\nimu: {") + 1;
+  return kCampero.substr(at, kCampero.find('\n', at) + 1 - at);
+}();
+const std::string kNoImu = edit(kCampero, kImuLine, "");
 const std::string kAppendedLine =
-    std::to_string(std::count(kCampero.begin(), kCampero.end(), '\n') + 1);
+    std::to_string(std::count(kNoImu.begin(), kNoImu.end(), '\n') + 1);
 
 struct Loaded {
   bool ok = false;
@@ -67,8 +72,25 @@ TEST(RobotLoader, ARoundBodyIsItsDiameterBothWays) {
       << bad.error;
 }
 
+TEST(RobotLoader, TheGyroSettingsAreRead) {
+  const Loaded preset = load(kCampero);
+  ASSERT_TRUE(preset.ok) << preset.error;
+  EXPECT_TRUE(preset.robot.imu.gyro_heading);
+  EXPECT_DOUBLE_EQ(preset.robot.imu.gyro_noise_std_radps, 0.003);
+  EXPECT_DOUBLE_EQ(preset.robot.imu.gyro_bias_radps, 0.0005);
+  // Without the keys: the heading from the gyro, an ideal one in the simulator.
+  const Loaded plain = load(kNoImu + "imu: {present: true}\n");
+  ASSERT_TRUE(plain.ok) << plain.error;
+  EXPECT_TRUE(plain.robot.imu.gyro_heading);
+  EXPECT_EQ(plain.robot.imu.gyro_noise_std_radps, 0.0);
+  EXPECT_EQ(plain.robot.imu.gyro_bias_radps, 0.0);
+  const Loaded wheels = load(kNoImu + "imu: {present: true, gyro_heading: false}\n");
+  ASSERT_TRUE(wheels.ok) << wheels.error;
+  EXPECT_FALSE(wheels.robot.imu.gyro_heading);
+}
+
 TEST(RobotLoader, ImuAndLidarCanBeNotFitted) {
-  const Loaded imu = load(kCampero + "imu: {present: false}\n");
+  const Loaded imu = load(kNoImu + "imu: {present: false}\n");
   ASSERT_TRUE(imu.ok) << imu.error;
   EXPECT_FALSE(imu.robot.imu.present);
   // A lidar that is not fitted needs no mount.
@@ -86,12 +108,16 @@ TEST(RobotLoader, ImuAndLidarCanBeNotFitted) {
 }
 
 TEST(RobotLoader, StrictErrorsNameFileLineAndKey) {
-  const Loaded type = load(kCampero + "imu: {present: yes}\n");
+  const Loaded type = load(kNoImu + "imu: {present: yes}\n");
   EXPECT_EQ(type.error,
             type.path + ":" + kAppendedLine + ": imu.present: expected true or false, got \"yes\"");
-  const Loaded key = load(kCampero + "imu: {present: true, rate_hz: 100}\n");
-  EXPECT_EQ(key.error,
-            key.path + ":" + kAppendedLine + ": imu.rate_hz: unknown key (allowed: present)");
+  const Loaded key = load(kNoImu + "imu: {present: true, rate_hz: 100}\n");
+  EXPECT_EQ(key.error, key.path + ":" + kAppendedLine +
+                           ": imu.rate_hz: unknown key (allowed: present, gyro_heading, "
+                           "gyro_noise_std_radps, gyro_bias_radps)");
+  const Loaded noise = load(kNoImu + "imu: {present: true, gyro_noise_std_radps: -0.1}\n");
+  EXPECT_EQ(noise.error, noise.path + ":" + kAppendedLine +
+                             ": imu.gyro_noise_std_radps: expected a number in [0, 1], got -0.1");
   const Loaded range = load(edit(kCampero, "width: 640", "width: 6400"));
   EXPECT_NE(range.error.find(range.path + ":10: camera.width: expected an integer in [32, 1280], "
                                           "got 6400"),
