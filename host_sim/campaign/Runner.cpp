@@ -55,14 +55,6 @@ class StopSignals {
   }, old_term_{};
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) return {};
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string duration_text(double s) {
   char buf[32];
   if (s >= 3600.0) {
@@ -147,6 +139,14 @@ std::string variant_dir(const std::string& out_dir, std::uint64_t index) {
   char name[32];
   std::snprintf(name, sizeof name, "%06llu", static_cast<unsigned long long>(index));
   return (fs::path(out_dir) / "runs" / name).string();
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 std::string variant_status(const std::string& out_dir, std::uint64_t index) {

@@ -37,6 +37,8 @@ struct RunCounts {
   std::string error;  // set when the campaign could not be run at all
 };
 
+// A whole file's bytes; "" when it cannot be read (a status or job file not written yet).
+std::string read_text(const std::string& path);
 // The status of variant `index` in `out_dir`: "" when it has not finished.
 std::string variant_status(const std::string& out_dir, std::uint64_t index);
 // OUT/runs/NNNNNN

@@ -11,8 +11,6 @@ campaign=$(realpath "$1")
 sim=$(realpath "$2")
 src=$3
 work=$(mktemp -d)
-fails=0
-passes=0
 cleanup() {
   [ -f "$work/slurmd.pid" ] && kill "$(cat "$work/slurmd.pid")" 2>/dev/null
   [ -f "$work/slurmctld.pid" ] && kill "$(cat "$work/slurmctld.pid")" 2>/dev/null
@@ -28,16 +26,7 @@ skip() {
   done
   exit 77
 }
-check() {  # check <description> <condition...>
-  local what=$1
-  shift
-  if "$@"; then
-    passes=$((passes + 1))
-  else
-    echo "FAIL: $what"
-    fails=$((fails + 1))
-  fi
-}
+. "$(dirname "${BASH_SOURCE[0]}")/check.sh"
 for tool in munged slurmctld slurmd sbatch squeue sinfo scancel; do
   command -v "$tool" >/dev/null || skip "$tool is not installed (tools/setup.sh installs slurm-wlm and munge)"
 done
