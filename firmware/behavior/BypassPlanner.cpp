@@ -1,5 +1,6 @@
 #include "firmware/behavior/BypassPlanner.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
@@ -86,16 +87,22 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   set_waypoints(p, x_robot);
   p.ok = true;
   if (costmap != nullptr) {
-    if (lane_clear(p, odom, 0, *costmap)) return p;
-    // The other side, where the outline allows it.
+    // The costmap may hold more of the obstacle than this scan's outline (a lidar on one corner
+    // sees one flank): the lane moves out in steps of kLaneStepM, up to max_lateral_m, until
+    // the body clears it; then the other side, where the outline allows it.
+    BypassPlan q = p;
+    const auto clear_lane = [&](int side, double reach) {
+      q.side = side;
+      for (double lat = reach; lat <= cfg_.max_lateral_m + 1e-9; lat += kLaneStepM) {
+        q.lateral = side * lat;
+        set_waypoints(q, x_robot);
+        if (lane_clear(q, odom, 0, *costmap)) return true;
+      }
+      return false;
+    };
+    if (clear_lane(p.side, p.side > 0 ? reach_left : reach_right)) return q;
     const bool other_ok = p.side > 0 ? right_ok : left_ok;
-    if (other_ok) {
-      BypassPlan q = p;
-      q.side = -p.side;
-      q.lateral = q.side > 0 ? reach_left : -reach_right;
-      set_waypoints(q, x_robot);
-      if (lane_clear(q, odom, 0, *costmap)) return q;
-    }
+    if (other_ok && clear_lane(-p.side, p.side > 0 ? reach_right : reach_left)) return q;
     p.ok = false;
     p.blocked = true;
   }
@@ -105,59 +112,102 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
 bool BypassPlanner::lane_clear(const BypassPlan& p, const Pose2& from, std::size_t first,
                                const RollingGrid<std::uint8_t>& costmap) const {
   const double res = costmap.resolution();
-  const double step = 0.5 * res;
-  // A lethal cell holds an obstacle point somewhere inside it: half its diagonal on top.
-  const double margin = cfg_.emergency_m + 0.71 * res;
+  // A lethal cell's centre may be up to one cell from the obstacle point it holds.
+  const double margin = cfg_.emergency_m + res;
   const double turn_radius = std::hypot(fp_.half_length_m, fp_.half_width_m) + cfg_.emergency_m;
   const Vec2 start(from.x, from.y);
-  const auto judged = [&](const Vec2& q) { return (q - start).norm() >= res; };
+  const Rect here = grown(start, from.yaw, margin);
   Vec2 a = start;
   double yaw = from.yaw;
   for (std::size_t i = first; i < p.waypoints.size(); ++i) {
     const Vec2 b = p.waypoints[i];
-    const double len = (b - a).norm();
-    if (len < 1e-6) continue;
+    if ((b - a).norm() < 1e-6) continue;
     const double leg_yaw = holonomic_ ? p.heading : std::atan2(b.y() - a.y(), b.x() - a.x());
     // A differential robot turns on the spot onto the leg first.
-    if (!holonomic_ && std::fabs(wrap_angle(leg_yaw - yaw)) > 0.05 && judged(a) &&
+    if (!holonomic_ && std::fabs(wrap_angle(leg_yaw - yaw)) > 0.05 && (a - start).norm() >= res &&
         !disc_clear(a, turn_radius, costmap))
       return false;
     yaw = leg_yaw;
-    const int n = static_cast<int>(std::ceil(len / step));
-    for (int k = 1; k <= n; ++k) {
-      const Vec2 q = a + (b - a) * (double(k) / n);
-      if (judged(q) && !body_clear(q, yaw, margin, costmap)) return false;
-    }
+    if (!sweep_clear(grown(a, yaw, margin), grown(b, yaw, margin), here, costmap)) return false;
     a = b;
   }
   // ...and at the end onto the tape again.
-  if (!holonomic_ && std::fabs(wrap_angle(p.heading - yaw)) > 0.05 && judged(a) &&
+  if (!holonomic_ && std::fabs(wrap_angle(p.heading - yaw)) > 0.05 && (a - start).norm() >= res &&
       !disc_clear(a, turn_radius, costmap))
     return false;
   return true;
 }
 
-bool BypassPlanner::body_clear(const Vec2& c, double yaw, double margin,
-                               const RollingGrid<std::uint8_t>& costmap) const {
-  // The grown rectangle's outline, sampled at half a cell: the body moves in steps of half a
-  // cell too, so nothing lethal gets inside without crossing the outline first.
-  const double hl = fp_.half_length_m + margin, hw = fp_.half_width_m + margin;
-  const Vec2 u(std::cos(yaw), std::sin(yaw)), v(-u.y(), u.x());
-  const double step = 0.5 * costmap.resolution();
-  const auto lethal = [&](double s, double t) {
-    const Vec2 q = c + s * u + t * v;
-    int cx = 0, cy = 0;
-    return costmap.world_to_cell(q.x(), q.y(), cx, cy) && costmap.at(cx, cy) == cost::kLethal;
-  };
-  const int nl = static_cast<int>(std::ceil(2.0 * hl / step));
-  for (int k = 0; k <= nl; ++k) {
-    const double s = -hl + 2.0 * hl * k / nl;
-    if (lethal(s, hw) || lethal(s, -hw)) return false;
+BypassPlanner::Rect BypassPlanner::grown(const Vec2& c, double yaw, double margin) const {
+  Rect r;
+  r.c = c;
+  r.u = Vec2(std::cos(yaw), std::sin(yaw));
+  r.hl = fp_.half_length_m + margin;
+  r.hw = fp_.half_width_m + margin;
+  return r;
+}
+
+bool BypassPlanner::sweep_clear(const Rect& r0, const Rect& r1, const Rect& here,
+                                const RollingGrid<std::uint8_t>& costmap) {
+  // The area the body sweeps sliding from r0 to r1 without turning: the convex hull of both
+  // rectangles' corners (Andrew's monotone chain over the 8 points).
+  constexpr int n = 8;
+  Vec2 pts[n];
+  for (int i = 0; i < n; ++i) {
+    const Rect& r = i < 4 ? r0 : r1;
+    const double s = (i & 1) ? 1.0 : -1.0, t = (i & 2) ? 1.0 : -1.0;
+    pts[i] = r.c + s * r.hl * r.u + t * r.hw * Vec2(-r.u.y(), r.u.x());
   }
-  const int nw = static_cast<int>(std::ceil(2.0 * hw / step));
-  for (int k = 1; k < nw; ++k) {
-    const double t = -hw + 2.0 * hw * k / nw;
-    if (lethal(hl, t) || lethal(-hl, t)) return false;
+  // Sorted by x, then y (insertion sort: 8 points).
+  for (int i = 1; i < n; ++i) {
+    for (int j = i; j > 0; --j) {
+      const Vec2 &a = pts[j - 1], &b = pts[j];
+      if (a.x() < b.x() || (a.x() == b.x() && a.y() <= b.y())) break;
+      std::swap(pts[j - 1], pts[j]);
+    }
+  }
+  const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  Vec2 hull[16];
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    hull[k++] = pts[i];
+  }
+  for (int i = n - 2, lower = k + 1; i >= 0; --i) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    hull[k++] = pts[i];
+  }
+  const int m = k - 1;  // the last point repeats the first
+  double ymin = hull[0].y(), ymax = hull[0].y();
+  for (int i = 1; i < m; ++i) {
+    ymin = std::fmin(ymin, hull[i].y());
+    ymax = std::fmax(ymax, hull[i].y());
+  }
+  // Row by row, the cells whose centres lie inside the hull.
+  const double res = costmap.resolution();
+  const Vec2 hv(-here.u.y(), here.u.x());
+  for (int cy = costmap.cell_of(ymin); cy <= costmap.cell_of(ymax); ++cy) {
+    const double yc = costmap.center_of(cy);
+    double xl = 1e300, xr = -1e300;
+    for (int i = 0; i < m; ++i) {
+      const Vec2 &e0 = hull[i], &e1 = hull[i + 1];
+      if ((yc < e0.y()) == (yc < e1.y())) continue;  // the edge does not cross this row
+      const double x = e0.x() + (yc - e0.y()) * (e1.x() - e0.x()) / (e1.y() - e0.y());
+      xl = std::fmin(xl, x);
+      xr = std::fmax(xr, x);
+    }
+    if (xl > xr) continue;
+    const int cx0 = static_cast<int>(std::ceil(xl / res - 0.5));
+    const int cx1 = static_cast<int>(std::floor(xr / res - 0.5));
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      if (!costmap.contains(cx, cy) || costmap.at(cx, cy) != cost::kLethal) continue;
+      // Where the robot stands now is not judged (the emergency stop guards it).
+      const Vec2 d = Vec2(costmap.center_of(cx), yc) - here.c;
+      if (std::fabs(d.dot(here.u)) <= here.hl && std::fabs(d.dot(hv)) <= here.hw) continue;
+      return false;
+    }
   }
   return true;
 }

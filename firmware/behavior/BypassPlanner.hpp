@@ -50,26 +50,35 @@ class BypassPlanner {
   // Plans round the obstacle nearest ahead of a robot at `odom` on a tape through `tape_point`
   // with direction `tape_heading` (both odometry frame).
   // With a costmap, the lane the outline chose is checked on it (lane_clear); when it is blocked
-  // the other side is tried, and the plan is blocked when neither is clear. `excluded_side` (+1
-  // left, -1 right, 0 none) is a side already found blocked: only the other is considered.
+  // it moves out in steps of kLaneStepM up to max_lateral_m, then the other side is tried the
+  // same way, and the plan is blocked when no lane is clear. `excluded_side` (+1 left, -1
+  // right, 0 none) is a side already found blocked: only the other is considered.
   BypassPlan plan(const ObstacleField& f, const Pose2& odom, const Vec2& tape_point,
                   double tape_heading, const RollingGrid<std::uint8_t>* costmap = nullptr,
                   int excluded_side = 0) const;
   // Whether the robot, driven from `from` through p's waypoints [first, n), keeps its whole body
-  // at least emergency_m off every lethal cell of `costmap`: the rectangle swept along each leg
-  // (holding the tape's heading, or facing along the leg), and for a differential robot the
-  // circle it sweeps turning at each leg's start and at the end. Cells outside the window count
-  // as clear; poses within one cell of `from` are not judged (the robot is already there).
+  // at least emergency_m off every lethal cell of `costmap` (a cell's centre at least
+  // emergency_m + one cell off): the area its rectangle sweeps along each leg (holding the
+  // tape's heading, or facing along the leg), and for a differential robot the circle it sweeps
+  // turning at each leg's start and at the end. Cells outside the window count as clear; cells
+  // under the body where it stands now are not judged (the emergency stop guards those).
   bool lane_clear(const BypassPlan& p, const Pose2& from, std::size_t first,
                   const RollingGrid<std::uint8_t>& costmap) const;
+  static constexpr double kLaneStepM = 0.1;  // how far a blocked lane moves out per try [m]
   // Extends `p` if a newer scan shows the obstacle reaching further along the tape.
   void refine(const ObstacleField& f, BypassPlan& p) const;
 
  private:
   void set_waypoints(BypassPlan& p, double x_robot) const;
-  // The body at `c` facing `yaw`, grown by `margin` [m], touches no lethal cell.
-  bool body_clear(const Vec2& c, double yaw, double margin,
-                  const RollingGrid<std::uint8_t>& costmap) const;
+  // The body's rectangle at c, facing u, grown by a margin: half length and half width [m].
+  struct Rect {
+    Vec2 c = Vec2::Zero(), u = Vec2::UnitX();
+    double hl = 0.0, hw = 0.0;
+  };
+  Rect grown(const Vec2& c, double yaw, double margin) const;
+  // No lethal cell's centre inside the area swept sliding from r0 to r1, outside `here`.
+  static bool sweep_clear(const Rect& r0, const Rect& r1, const Rect& here,
+                          const RollingGrid<std::uint8_t>& costmap);
   // Nothing lethal within `radius` [m] of `c` (the circle a body turning on the spot sweeps).
   static bool disc_clear(const Vec2& c, double radius, const RollingGrid<std::uint8_t>& costmap);
   AvoidConfig cfg_;

@@ -41,9 +41,25 @@ void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
 bool TapeMap::far_segment(double span_m, Vec2& point, double& heading) const {
   if (pts_.size() < 2) return false;
   const Vec2& last = pts_.back();
-  std::size_t i = pts_.size() - 1;
-  while (i > 0 && (pts_[i - 1] - last).norm() < span_m) --i;
-  if (i > 0) --i;
+  const std::size_t n = pts_.size();
+  // Back from the last point up to span_m (and one point beyond), while the stretch stays
+  // straight: just past a corner only the new leg's points give its direction (a chord across
+  // the corner points half-way between the legs).
+  const auto straight = [&](std::size_t from) {
+    const Vec2 d = last - pts_[from];
+    const double len = d.norm();
+    if (len < 1e-3) return true;
+    for (std::size_t k = from + 1; k + 1 < n; ++k) {
+      const Vec2 q = pts_[k] - pts_[from];
+      if (std::fabs(d.x() * q.y() - d.y() * q.x()) / len > kStraightTolM) return false;
+    }
+    return true;
+  };
+  std::size_t i = n - 1;
+  while (i > 0 && straight(i - 1)) {
+    --i;
+    if ((pts_[i] - last).norm() >= span_m) break;
+  }
   const Vec2 d = last - pts_[i];
   if (d.norm() < 1e-3) return false;
   point = last;

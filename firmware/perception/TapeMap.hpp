@@ -35,9 +35,13 @@ class TapeMap {
   void add(const Pose2& odom, const Vec2* pts_robot, std::size_t n);
   // Tracking quantities for a robot at `odom`.
   TrackState track(const Pose2& odom, double lookahead_m, double preview_m) const;
-  // The farthest remembered stretch of tape (at least `span_m` long): a point on it and its
-  // direction, odometry frame. Where the tape runs under an obstacle, this is its line there.
+  // The farthest remembered stretch of tape (at least `span_m` long where it runs straight; only
+  // the new leg just past a corner): a point on it and its direction, odometry frame. Where the
+  // tape runs under an obstacle, this is its line there.
   bool far_segment(double span_m, Vec2& point, double& heading) const;
+  // Points further than this off the chord end a straight stretch (the tape is 5 cm wide; a
+  // 1.2 m-radius arc bows 9 mm over 0.3 m) [m].
+  static constexpr double kStraightTolM = 0.02;
   // Remembered points, odometry frame, in path order.
   const StaticVector<Vec2, kMaxPoints>& points() const { return pts_; }
 

@@ -266,6 +266,24 @@ TEST_F(BypassPlannerTest, TheLaneCheckKeepsTheWholeBodyOffLethalCells) {
   EXPECT_FALSE(r.ok);
 }
 
+// The costmap may hold more of the obstacle than the scan's outline (a lidar on one corner sees one
+// flank; thesis campaign variant 262): the lane moves out until the body clears it, rather than
+// giving up that side.
+TEST_F(BypassPlannerTest, ALaneTheCostmapClosesMovesOut) {
+  const BypassPlan p = plan_from(box_ahead());
+  ASSERT_TRUE(p.ok);
+  ASSERT_EQ(p.side, 1);  // both sides free: the shorter detour, left on a tie
+  std::initializer_list<Vec2> flank = {{1.2, 0.72}, {1.5, 0.72}, {1.8, 0.72}};
+  const RollingGrid<std::uint8_t> cm = costmap_with(flank);
+  EXPECT_FALSE(planner.lane_clear(p, Pose2{}, 0, cm));
+  const BypassPlan q =
+      planner.plan(field_of(box_ahead(), Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0, &cm);
+  ASSERT_TRUE(q.ok);
+  EXPECT_EQ(q.side, 1);
+  EXPECT_NEAR(q.lateral, kLane + BypassPlanner::kLaneStepM, 0.01);
+  EXPECT_TRUE(planner.lane_clear(q, Pose2{}, 0, cm));
+}
+
 // A differential robot turns on the spot where the leg aside ends, sweeping the circle round its
 // corners; a holonomic one slides on, facing along the tape. A post inside that circle but clear
 // of the sliding body closes only the differential robot's lane.

@@ -192,6 +192,30 @@ TEST(TapeMapTest, FarSegmentIsTheLastStretchOfTape) {
   EXPECT_NEAR(wrap_angle(heading - (o.yaw + kPi / 2)), 0.0, 1e-9);
 }
 
+// Just past a corner, with only 0.2 m of the new leg seen, the far segment is that leg's direction,
+// not the chord across the corner (which pointed 34 deg off it and started a bypass in that
+// frame: thesis campaign variant 219). An arc of 1.2 m radius stays one stretch.
+TEST(TapeMapTest, FarSegmentJustPastACornerIsTheNewLeg) {
+  TapeMap m;
+  std::vector<Vec2> pts;
+  for (double x = 0.7; x < 1.2 - 1e-9; x += 0.05) pts.emplace_back(x, 0.0);
+  for (double y = 0.0; y <= 0.2 + 1e-9; y += 0.05) pts.emplace_back(1.2, y);
+  add(m, Pose2{}, pts);
+  Vec2 point;
+  double heading = 0.0;
+  ASSERT_TRUE(m.far_segment(0.3, point, heading));
+  EXPECT_NEAR(wrap_angle(heading - kPi / 2), 0.0, 1e-9);
+  EXPECT_NEAR((point - Vec2(1.2, 0.2)).norm(), 0.0, 1e-9);
+  TapeMap arc;
+  std::vector<Vec2> a;
+  for (double t = 0.0; t <= 0.6 + 1e-9; t += 0.02)
+    a.emplace_back(1.2 * std::sin(t), 1.2 - 1.2 * std::cos(t));
+  add(arc, Pose2{}, a);
+  ASSERT_TRUE(arc.far_segment(0.3, point, heading));
+  // The chord of the last 0.3 m of the arc (and one point more): its middle's tangent.
+  EXPECT_NEAR(heading, 0.6 - 0.15 / 1.2 - 0.01, 0.02);
+}
+
 TEST(TapeMapTest, FewerThanTwoPointsIsNotTracked) {
   TapeMap m;
   EXPECT_TRUE(m.empty());
