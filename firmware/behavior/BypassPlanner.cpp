@@ -93,8 +93,8 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
     BypassPlan q = p;
     const auto clear_lane = [&](int side, double reach) {
       q.side = side;
-      for (double lat = reach; lat <= cfg_.max_lateral_m + 1e-9; lat += kLaneStepM) {
-        q.lateral = side * lat;
+      for (int k = 0; reach + k * kLaneStepM <= cfg_.max_lateral_m + 1e-9; ++k) {
+        q.lateral = side * (reach + k * kLaneStepM);
         set_waypoints(q, x_robot);
         if (lane_clear(q, odom, 0, *costmap)) return true;
       }

@@ -6,7 +6,7 @@ namespace carril::fw {
 
 bool Odometry::gyro_turn(const hal::ImuSample& imu, double& dyaw) {
   if (!gyro_heading_) return false;
-  const double rate = imu.yaw_rate_radps;
+  const double rate = double(imu.yaw_rate_radps);
   if (!imu.valid || !std::isfinite(rate)) {
     gyro_primed_ = false;
     return false;
