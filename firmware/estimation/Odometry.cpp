@@ -38,13 +38,10 @@ void Odometry::update(const hal::WheelFeedbackSet& fb, const hal::ImuSample& imu
   primed_ = true;
   twist_ = kin_.forward(vel);
   const Twist d = kin_.forward_delta(delta);
-  double dyaw = d.wz;
-  if (gyro_turn(imu, dyaw) && !first) {
-    ++gyro_steps_;
-  } else {
-    dyaw = d.wz;
-    ++wheel_steps_;
-  }
+  double dyaw = 0.0;
+  const bool gyro = gyro_turn(imu, dyaw) && !first;
+  if (!gyro) dyaw = d.wz;
+  ++(gyro ? gyro_steps_ : wheel_steps_);
   // Midpoint integration: the step's translation is taken at the average heading.
   const double mid = pose_.yaw + 0.5 * dyaw;
   const double c = std::cos(mid), s = std::sin(mid);
