@@ -1,6 +1,7 @@
 #include "firmware/perception/BlobRefiner.hpp"
 
 #include <bit>
+#include <cstring>
 
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
@@ -133,27 +134,53 @@ bool pixel_in(const std::uint8_t* img, int w, int h, int u, int v, const ColorTh
   return blurred_in(t, (sb + 128) >> 8, (sg + 128) >> 8, (sr + 128) >> 8);
 }
 
-// Blurred BGR of the 8 pixels u0..u0+7 in rows v0..v0+rows-1 (rows <= kChunkRows), all at least
-// 2 px inside the image. Fixed-size loops over 16-bit lanes, which the compiler vectorises:
-// a horizontal pass over rows+4 rows, then the vertical pass.
-constexpr int kChunk = 8, kChunkBytes = 3 * kChunk, kChunkRows = 4;
-void blur_chunk(const std::uint8_t* img, int w, int u0, int v0, int rows,
-                std::uint16_t out[kChunkRows][kChunkBytes]) {
-  std::uint16_t hs[kChunkRows + 4][kChunkBytes];
-  const std::size_t row = std::size_t(w) * 3;
-  for (int r = 0; r < rows + 4; ++r) {
-    const std::uint8_t* p = img + std::size_t(v0 - 2 + r) * row + std::size_t(u0 - 2) * 3;
-    for (int i = 0; i < kChunkBytes; ++i) {
-      hs[r][i] =
-          static_cast<std::uint16_t>(p[i] + 4 * p[i + 3] + 6 * p[i + 6] + 4 * p[i + 9] + p[i + 12]);
-    }
+constexpr int kChunkBytes = BlobRefiner::kChunkBytes;
+
+// Eight 16-bit lanes (GCC and Clang vector extensions: SSE2 on x86-64, NEON on aarch64). A
+// chunk's 24 bytes are three of them; written out so, the compiler does not fall back to a
+// scalar loop for the last eight, nor widen to 32-bit lanes.
+using U8x8 = std::uint8_t __attribute__((vector_size(8)));
+using U16x8 = std::uint16_t __attribute__((vector_size(16)));
+using U8x16 = std::uint8_t __attribute__((vector_size(16)));
+// Eight bytes to eight lanes: each byte paired with a zero byte (one unpack instruction).
+U16x8 widen8(const std::uint8_t* p) {
+  static_assert(std::endian::native == std::endian::little, "byte pairs read as little-endian");
+  U8x8 v;
+  std::memcpy(&v, p, sizeof v);
+  const U8x16 pairs =
+      __builtin_shufflevector(v, U8x8{}, 0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15);
+  U16x8 r;
+  std::memcpy(&r, &pairs, sizeof r);
+  return r;
+}
+U16x8 load16(const std::uint16_t* p) {
+  U16x8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+void store16(std::uint16_t* p, U16x8 v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+// Horizontal pass of the blur for the 8 pixels u0..u0+7 of row v (at least 2 px inside the
+// image): 24 sums of five taps, one per byte (at most 16 x 255: no overflow).
+void hblur_chunk(const std::uint8_t* img, int w, int u0, int v, std::uint16_t* out) {
+  const std::uint8_t* p = img + std::size_t(v) * std::size_t(w) * 3 + std::size_t(u0 - 2) * 3;
+  for (int i = 0; i < kChunkBytes; i += 8) {
+    const std::uint8_t* q = p + i;
+    store16(out + i,
+            widen8(q) + 4 * widen8(q + 3) + 6 * widen8(q + 6) + 4 * widen8(q + 9) + widen8(q + 12));
   }
-  for (int o = 0; o < rows; ++o) {
-    for (int i = 0; i < kChunkBytes; ++i) {
-      out[o][i] = static_cast<std::uint16_t>((hs[o][i] + 4 * hs[o + 1][i] + 6 * hs[o + 2][i] +
-                                              4 * hs[o + 3][i] + hs[o + 4][i] + 128) >>
-                                             8);
-    }
+}
+
+// Vertical pass for one row of a chunk from the horizontal sums of the five rows round it,
+// rounded half up (at most 256 x 255 + 128: no overflow in 16 bits).
+void vblur_row(const std::uint16_t* a, const std::uint16_t* b, const std::uint16_t* c,
+               const std::uint16_t* d, const std::uint16_t* e, std::uint16_t* out) {
+  for (int i = 0; i < kChunkBytes; i += 8) {
+    const U16x8 s = load16(a + i) + 4 * load16(b + i) + 6 * load16(c + i) + 4 * load16(d + i) +
+                    load16(e + i) + 128;
+    store16(out + i, s >> 8);
   }
 }
 
@@ -177,6 +204,12 @@ BlobRefiner::BlobRefiner(int width, int height, int decimation)
       cell_h_(height / decimation),
       cell_stride_(bit_stride(width / decimation)) {
   blob_ = std::make_unique<std::uint64_t[]>(std::size_t(cell_h_ + 2) * cell_stride_);
+  chunks_ = (width + kChunk - 1) / kChunk;
+  hsum_ = std::make_unique<std::uint16_t[]>(std::size_t(kHSlots) * std::size_t(chunks_) *
+                                            std::size_t(kChunkBytes));
+  htag_ = std::make_unique<std::uint64_t[]>(std::size_t(kHSlots) * std::size_t(chunks_));
+  for (std::size_t i = 0; i < std::size_t(kHSlots) * std::size_t(chunks_); ++i)
+    htag_[i] = ~std::uint64_t{0};
 }
 
 BlobRefiner::~BlobRefiner() = default;
@@ -192,6 +225,27 @@ void BlobRefiner::mark_blob(const RunLabeler& lab, int id, int y0, int y1, int c
       if (lab.root(i) == id) set_range(blob_row(y), lab.run(i).x0, lab.run(i).x1);
     }
   }
+}
+
+void BlobRefiner::blur_chunk(const std::uint8_t* bgr, int u0, int v0, int rows,
+                             std::uint16_t out[][kChunkBytes]) {
+  // The chunk's ring of horizontal sums: slot (v & (kHSlots - 1)) holds row v when its tag says so.
+  const int chunk = u0 / kChunk;
+  std::uint64_t* tags = htag_.get() + std::size_t(chunk) * kHSlots;
+  std::uint16_t* ring = hsum_.get() + std::size_t(chunk) * kHSlots * kChunkBytes;
+  const std::uint64_t gen = gen_ << 16;
+  const std::uint16_t* hs[kChunkRows + 4];
+  for (int r = 0; r < rows + 4; ++r) {
+    const int v = v0 - 2 + r, slot = v & (kHSlots - 1);
+    std::uint16_t* h = ring + slot * kChunkBytes;
+    if (tags[slot] != (gen | std::uint64_t(v))) {
+      hblur_chunk(bgr, w_, u0, v, h);
+      tags[slot] = gen | std::uint64_t(v);
+    }
+    hs[r] = h;
+  }
+  for (int o = 0; o < rows; ++o)
+    vblur_row(hs[o], hs[o + 1], hs[o + 2], hs[o + 3], hs[o + 4], out[o]);
 }
 
 int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t,
@@ -237,7 +291,7 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
         const int u0 = 64 * k + c;
         if (rows_inside && u0 >= 2 && u0 + kChunk + 2 <= w_) {
           std::uint16_t px[kChunkRows][kChunkBytes];
-          blur_chunk(bgr, w_, u0, vy, rows, px);
+          blur_chunk(bgr, u0, vy, rows, px);
           for (int j = 0; j < rows; ++j) {
             std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;
             for (std::uint64_t b = bits; b != 0; b &= b - 1) {
@@ -336,6 +390,7 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
   const int k0 = (d_ * cx0) >> 6;
   const int k1 = (d_ * cx1 + d_ - 1 < w_ ? d_ * cx1 + d_ - 1 : w_ - 1) >> 6;
   mark_blob(lab, id, y0, y1, cy0, cy1);
+  ++gen_;  // the frame may have changed since the last call: no cached row is valid
   const int classified = rebuild_window(bgr, t, cells, cy0, cy1, k0, k1);
   // The thesis's opening at full resolution, on this window of rows.
   const int v0 = d_ * cy0, v1 = d_ * cy1 + d_ - 1 < h_ ? d_ * cy1 + d_ - 1 : h_ - 1;

@@ -28,6 +28,9 @@ struct BlobSums {
 
 class BlobRefiner {
  public:
+  // Boundary pixels are blurred 8 columns at a time, up to 4 rows at a time.
+  static constexpr int kChunk = 8, kChunkBytes = 3 * kChunk, kChunkRows = 4;
+
   // For width x height frames and masks decimated by d.
   BlobRefiner(int width, int height, int decimation);
   ~BlobRefiner();
@@ -50,10 +53,21 @@ class BlobRefiner {
                      int cy0, int cy1, int k0, int k1);
   // Area and outline moments of the window's mask rows v0..v1 (the blob's rows y0..y1 in bands).
   void window_moments(int y0, int y1, int v0, int v1, int k0, int k1, BlobSums& out) const;
+  // Blurred BGR of the chunk at column u0 (a multiple of kChunk), rows v0..v0 + rows - 1, all
+  // 2 px inside the image. The horizontal pass of each row of a chunk is done once per measure()
+  // call and kept in the chunk's ring of kHSlots rows: a cell row's chunks need the d + 4 rows
+  // round it, so without the ring each row's pass was done up to three times.
+  void blur_chunk(const std::uint8_t* bgr, int u0, int v0, int rows,
+                  std::uint16_t out[][kChunkBytes]);
+  static constexpr int kHSlots = 8;  // >= kChunkRows + 4, a power of two
   int w_, h_, d_, stride_;
   std::unique_ptr<std::uint64_t[]> mask_, tmp_;  // h_ x stride_ full-resolution rows
   std::unique_ptr<std::uint64_t[]> blob_;        // the blob's cells, (cells high + 2) rows
   int cell_w_, cell_h_, cell_stride_;
+  int chunks_ = 0;                         // kChunk-pixel chunks per row
+  std::unique_ptr<std::uint16_t[]> hsum_;  // per chunk, kHSlots rows of kChunkBytes sums
+  std::unique_ptr<std::uint64_t[]> htag_;  // per chunk and slot: (gen_ << 16) | row held
+  std::uint64_t gen_ = 0;                  // measure() calls so far
 };
 
 }  // namespace carril::fw

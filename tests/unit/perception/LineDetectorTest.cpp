@@ -299,6 +299,30 @@ TEST(LineDetectorTest, AllDecimationsAgreeOnAStraightTape) {
   EXPECT_EQ(odd.config().decimation, 2);  // 1, 2 or 4; anything else means the default
 }
 
+// detect() keeps per-call scratch (the blur's row ring in BlobRefiner); one detector fed a run of
+// frames must give, frame by frame, what a new detector gives. Small pose steps keep the tape in
+// the same pixel columns, where a stale ring row would be read.
+TEST(LineDetectorTest, OneDetectorOverManyFramesGivesWhatAFreshOneGives) {
+  const auto first = render_case({"seq", "campero", kStraight, "", 3, 0, 0.0, 0, "white", false});
+  LineDetector reused(first->camera(), config_for("white"));
+  for (int i = 0; i < 12; ++i) {
+    SCOPED_TRACE(i);
+    const auto rf = render_case(
+        {"seq", "campero", kStraight, "", 3, 0.004 * i, 0.002 * (i % 3), 0.3 * i, "white", false},
+        std::uint64_t(i + 1));
+    LineDetector fresh(rf->camera(), config_for("white"));
+    LineDetection a, b;
+    ASSERT_TRUE(reused.detect(*rf->frame, a));
+    ASSERT_TRUE(fresh.detect(*rf->frame, b));
+    ASSERT_TRUE(a.detected && b.detected);
+    ASSERT_EQ(a.blobs.size(), b.blobs.size());
+    EXPECT_EQ(a.blobs[0].area_px, b.blobs[0].area_px);
+    EXPECT_EQ(a.blobs[0].centroid_px.x(), b.blobs[0].centroid_px.x());
+    EXPECT_EQ(a.blobs[0].centroid_px.y(), b.blobs[0].centroid_px.y());
+    EXPECT_EQ(a.blobs[0].angle_deg, b.blobs[0].angle_deg);
+  }
+}
+
 TEST(LineDetectorTest, NoHeapAllocationInsideDetect) {
   // The counter is live: an allocation inside a window is counted.
   const std::uint64_t before = alloc::count_in_windows();
