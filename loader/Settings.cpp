@@ -69,6 +69,8 @@ const Field kFields[] = {
                   follow_line.behavior.reacquire_on_path_m),
     CARRIL_NUMBER(Mission, "behavior.end_reach_m", "behavior.end_reach_m",
                   follow_line.behavior.end_reach_m),
+    CARRIL_NUMBER(Mission, "behavior.end_reveal_m", "behavior.end_reveal_m",
+                  follow_line.behavior.end_reveal_m),
     // Mission file: obstacle avoidance (AvoidConfig).
     CARRIL_NUMBER(Mission, "behavior.avoid.corridor_margin_m", "behavior.avoid.corridor_margin_m",
                   follow_line.behavior.avoid.corridor_margin_m),

@@ -176,6 +176,14 @@ BehaviorOutput LineBehavior::follow(const BehaviorInput& in, double dt) {
     enter(LineState::End, Phase::Approach, in.t_s);
     return end(in);
   }
+  const Vec2 here(in.odom.x, in.odom.y);
+  if (!in.end_known && in.end_glimpsed && !reveal_tried_ &&
+      (in.end_glimpse_odom - here).norm() < cfg_.end_reveal_m) {
+    reveal_tried_ = true;
+    reveal_from_ = here;
+    enter(LineState::End, Phase::Reveal, in.t_s);
+    return end(in);
+  }
   begin_search(in);
   out.clear_map = true;
   return out;
@@ -350,6 +358,19 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
 BehaviorOutput LineBehavior::end(const BehaviorInput& in) {
   BehaviorOutput out;
   if (end_done_) return out;
+  if (phase_ == Phase::Reveal) {
+    // Straight back over the ground just driven, until the mark is wholly in view.
+    if (!in.end_known) {
+      if ((Vec2(in.odom.x, in.odom.y) - reveal_from_).norm() >= cfg_.end_reveal_m) {
+        begin_search(in);  // not there after all: what the tape's end would have done
+        out.clear_map = true;
+        return out;
+      }
+      out.twist.vx = -cfg_.end_speed_mps;
+      return out;
+    }
+    set_phase(Phase::Approach);
+  }
   // Stop on the mark: within tolerance, or (differential) once it is beside or behind the centre.
   bool arrived = false;
   out.twist = path_.approach(in.odom, in.end_odom, cfg_.end_speed_mps, cfg_.end_gain,
@@ -383,6 +404,7 @@ Status BehaviorConfig::validate() const {
       .range("start_on_tape_angle_rad", start_on_tape_angle_rad, 0.0, 1.6, "rad")
       .range("reacquire_on_path_m", reacquire_on_path_m, 0.0, 5.0, "m")
       .range("end_reach_m", end_reach_m, 0.0, 20.0, "m")
+      .range("end_reveal_m", end_reveal_m, 0.0, 5.0, "m")
       .nested(avoid.validate())
       .result();
 }

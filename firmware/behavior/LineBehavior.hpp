@@ -32,13 +32,14 @@ enum class Phase : std::uint8_t {
   BackOut,  // AVOID: the lane turned out blocked; back to where the bypass left the tape
   Rejoin,
   Stopped,
+  Reveal,  // END: the tape ran out by a mark seen only cut by the image's edge; back up to see it
   Count
 };
 
 inline const char* phase_name(Phase p) {
   static constexpr const char* kNames[] = {"wait",     "find",   "approach", "align", "track",
                                            "left",     "right",  "back",     "stop",  "bypass",
-                                           "back_out", "rejoin", "stopped"};
+                                           "back_out", "rejoin", "stopped",  "reveal"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) == std::size_t(Phase::Count));
   return kNames[std::size_t(p)];
 }
@@ -66,6 +67,11 @@ struct BehaviorConfig {
   // A known end mark this close when the tape runs out is where the tape ends: drive onto it
   // rather than search (a short tail after a corner may never fill the camera's view) [m].
   double end_reach_m = 2.0;
+  // The tape runs out with no end mark known, but one was glimpsed cut by the image's edge (it
+  // came into view from the side in a turn onto a short last leg, and was under the camera's
+  // blind zone once the robot faced it) within this distance: back up, once, at most this far,
+  // until it is wholly in view [m].
+  double end_reveal_m = 1.0;
   AvoidConfig avoid;
 
   Status validate() const;
@@ -88,8 +94,10 @@ struct BehaviorInput {
   bool tape_far_valid = false;    // the farthest remembered stretch of tape (where it runs into an
   Vec2 tape_far_point = Vec2::Zero();  // obstacle, if one stands on it), odometry frame
   double tape_far_heading = 0.0;
-  bool end_known = false;        // an end mark has been seen
-  Vec2 end_odom = Vec2::Zero();  // its position, odometry frame [m]
+  bool end_known = false;                // an end mark has been seen
+  Vec2 end_odom = Vec2::Zero();          // its position, odometry frame [m]
+  bool end_glimpsed = false;             // an end mark cut by the image's edge has been seen
+  Vec2 end_glimpse_odom = Vec2::Zero();  // its visible part's centroid, odometry frame [m]
   Pose2 odom;
   Twist measured;  // from the wheel encoders
   const ObstacleField* obstacles = nullptr;
@@ -117,6 +125,8 @@ class LineBehavior {
   LineState state() const { return state_; }
   const char* phase() const { return phase_name(phase_); }
   bool end_done() const { return end_done_; }
+  // END is still looking for the mark (backing up to see it whole), not yet driving onto it.
+  bool end_revealing() const { return state_ == LineState::End && phase_ == Phase::Reveal; }
   std::uint32_t line_lost_events() const { return line_lost_; }
   std::uint32_t line_reacquired_events() const { return line_reacquired_; }
   // Sightings rejected in SEARCH because they ran against the remembered direction of travel.
@@ -169,6 +179,8 @@ class LineBehavior {
   int excluded_side_ = 0;
   double blocked_since_s_ = -1.0;
   bool end_done_ = false;
+  bool reveal_tried_ = false;        // END's reveal is tried once per mission
+  Vec2 reveal_from_ = Vec2::Zero();  // where it started (odometry frame)
   std::uint32_t line_lost_ = 0, line_reacquired_ = 0, obstacles_avoided_ = 0;
   std::uint32_t reversed_sightings_ = 0;
 };

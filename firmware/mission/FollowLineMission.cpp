@@ -37,6 +37,10 @@ void FollowLineMission::remember(const LineObservation& obs) {
     end_odom_ = to_world(obs.pose, obs.end_floor);
     end_known_ = true;
   }
+  if (obs.end_glimpsed) {
+    end_glimpse_odom_ = to_world(obs.pose, det.end_floor);
+    end_glimpsed_ = true;
+  }
 }
 
 BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
@@ -65,6 +69,8 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   in.tape_far_valid = map_.far_segment(0.3, in.tape_far_point, in.tape_far_heading);
   in.end_known = end_known_;
   in.end_odom = end_odom_;
+  in.end_glimpsed = end_glimpsed_;
+  in.end_glimpse_odom = end_glimpse_odom_;
   in.odom = odom.pose;
   in.measured = odom.twist;
   in.obstacles = obstacles_.peek().valid() ? &obstacles_.peek() : nullptr;
@@ -107,7 +113,9 @@ MissionState FollowLineMission::state() const {
       s.status = MissionStatus::Active;
       break;
     case LineState::End:
-      s.status = behavior_.end_done() ? MissionStatus::Done : MissionStatus::Finishing;
+      s.status = behavior_.end_done()        ? MissionStatus::Done
+                 : behavior_.end_revealing() ? MissionStatus::Active
+                                             : MissionStatus::Finishing;
       break;
     case LineState::Fault:
     case LineState::Count:

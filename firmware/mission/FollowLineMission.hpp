@@ -61,6 +61,8 @@ class FollowLineMission final : public Mission {
   Reader<LineObservation> obs_;
   Reader<ObstacleField> obstacles_;
   bool end_known_ = false;
+  bool end_glimpsed_ = false;             // an end mark cut by the image edge has been seen
+  Vec2 end_glimpse_odom_ = Vec2::Zero();  // the visible part's centroid, odometry frame [m]
   const CostmapView* costmap_ = nullptr;
   std::uint32_t costmap_seen_ = 0;
   Vec2 end_odom_ = Vec2::Zero();

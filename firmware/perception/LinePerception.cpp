@@ -53,6 +53,7 @@ void LinePerception::run() {
   const LineDetection& det = obs.detection;
   // The end mark's position is only trusted when all of it is in view.
   obs.end_visible = det.end_detected && !det.end_blob.touches_edge;
+  obs.end_glimpsed = det.end_detected && det.end_blob.touches_edge;
   if (obs.end_visible) {
     // A disc seen in perspective has its image centroid pulled toward the near side; the middle
     // of its nearest and farthest points (bottom and top of the blob) on the floor is its centre.

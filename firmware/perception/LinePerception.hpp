@@ -30,6 +30,9 @@ struct LineObservation {
   Pose2 pose;                     // odometry pose the frame was processed at
   bool end_visible = false;       // an end mark wholly in view (its position can be trusted)
   Vec2 end_floor = Vec2::Zero();  // its centre on the floor, robot frame [m]
+  // An end mark cut by the image's edge: there, but its centre is not known (detection.end_floor
+  // is the visible part's centroid, within the mark's radius of the centre).
+  bool end_glimpsed = false;
 };
 
 struct LinePerceptionTelemetry {

@@ -351,5 +351,70 @@ TEST(LineBehaviorEndReach, EndMarkComingIntoViewDuringTheSearchEndsIt) {
   EXPECT_LT((s.end_odom - Vec2(s.pose.x, s.pose.y)).norm(), 0.05);
 }
 
+// A short last leg after a corner: the end mark came into view from the side during the turn and
+// is under the camera's blind zone once the robot faces it, so it was only ever glimpsed cut by
+// the image's edge. When the tape runs out, END backs up until the mark is wholly in view.
+TEST(LineBehaviorEndReveal, AGlimpsedMarkIsBackedUpToThenDrivenOnto) {
+  Sim s(false);
+  s.start_on_tape();
+  const Vec2 mark(s.pose.x + 0.3, 0.0);
+  const Vec2 from(s.pose.x, s.pose.y);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  double min_vx = 0.0;
+  bool seen_whole = false;  // as FollowLineMission remembers it
+  s.script = [&](BehaviorInput& in) {
+    in.end_glimpsed = true;
+    in.end_glimpse_odom = mark + Vec2(0.1, 0.05);  // the visible part's centroid: off the centre
+    // Wholly in view once the camera's near edge (0.7 m ahead) has cleared the mark's near side.
+    seen_whole = seen_whole || mark.x() - in.odom.x - 0.15 > 0.7;
+    in.end_known = seen_whole;
+    in.end_odom = seen_whole ? mark : Vec2::Zero();
+    min_vx = std::fmin(min_vx, s.last.vx);
+  };
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Follow; }, 100));
+  EXPECT_EQ(s.mb.state(), LineState::End);
+  EXPECT_STREQ(s.mb.phase(), "reveal");
+  ASSERT_TRUE(s.run_until([&] { return s.mb.end_done(); }, 3000));
+  EXPECT_LT(min_vx, -0.1);  // it did back up
+  EXPECT_LT((mark - Vec2(s.pose.x, s.pose.y)).norm(), 0.05);
+  EXPECT_LT((from - Vec2(s.pose.x, s.pose.y)).norm(), 0.35);
+  EXPECT_EQ(s.mb.line_lost_events(), 0U);
+  EXPECT_EQ(s.phases, Phases({"find", "track", "reveal", "approach", "stopped"}));
+}
+
+TEST(LineBehaviorEndReveal, AMarkNeverSeenWholeEndsInTheSearchOnceBackedUpTheLimit) {
+  Sim s(false);
+  s.start_on_tape();
+  const Vec2 from(s.pose.x, s.pose.y);
+  s.tape_in_view = false;
+  s.tape_in_map = false;
+  s.script = [&](BehaviorInput& in) {
+    in.end_glimpsed = true;
+    in.end_glimpse_odom = from + Vec2(0.4, 0.0);
+  };
+  ASSERT_TRUE(s.run_until([&] { return s.mb.state() == LineState::Search; }, 2000));
+  EXPECT_NEAR((from - Vec2(s.pose.x, s.pose.y)).norm(), s.cfg.end_reveal_m, 0.01);
+  EXPECT_EQ(s.mb.line_lost_events(), 1U);
+  EXPECT_TRUE(s.faults.empty());
+}
+
+TEST(LineBehaviorEndReveal, AGlimpseFarAwayOrNoneLeavesTheSearchAsItWas) {
+  for (const double away : {-1.0, 1.2}) {
+    SCOPED_TRACE(away);
+    Sim s(false);
+    s.start_on_tape();
+    const Vec2 from(s.pose.x, s.pose.y);
+    s.tape_in_view = false;
+    s.tape_in_map = false;
+    s.script = [&](BehaviorInput& in) {
+      in.end_glimpsed = away > 0.0;  // none at all, or one beyond end_reveal_m
+      in.end_glimpse_odom = from + Vec2(away, 0.0);
+    };
+    ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Follow; }, 100));
+    EXPECT_EQ(s.mb.state(), LineState::Search);
+  }
+}
+
 }  // namespace
 }  // namespace carril::fw

@@ -152,6 +152,7 @@ inline void expect_same(const fw::FirmwareConfig& a, const fw::FirmwareConfig& b
   CARRIL_SAME(follow_line.behavior.start_on_tape_angle_rad);
   CARRIL_SAME(follow_line.behavior.reacquire_on_path_m);
   CARRIL_SAME(follow_line.behavior.end_reach_m);
+  CARRIL_SAME(follow_line.behavior.end_reveal_m);
   CARRIL_SAME(follow_line.behavior.avoid.corridor_margin_m);
   CARRIL_SAME(follow_line.behavior.avoid.clearance_m);
   CARRIL_SAME(follow_line.behavior.avoid.speed_mps);
