@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 
 #include "host_sim/scenario/ColorCheck.hpp"
@@ -16,6 +17,46 @@ constexpr int kShift = 4;              // sub-pixel bits for cv::fillConvexPoly
 constexpr double kNearZ = 0.02;        // clip polygons this close to the camera plane [m]
 constexpr double kSpeckleCell = 0.25;  // floor texture: one speckle per cell this size [m]
 constexpr double kTextureRange = 6.0;  // no texture beyond this from the camera (sub-pixel) [m]
+// A polygon this far outside the image sets no pixel (fills round to the nearest pixel; the
+// equality test fails at 0 and passes at 0.6) [px].
+constexpr double kViewMarginPx = 2.0;
+constexpr double kSpeckleRadius = 1.41422;  // a speckle's bounding radius over its half-size
+constexpr double kSlack = 1e-6;  // tolerance on cell and region bounds, far above rounding [m]
+
+// The cells of the world box round the robot-frame box [x0, x1] x [-y, y] seen from `pose`.
+struct CellBox {
+  std::int64_t i0, i1, j0, j1;
+};
+CellBox texture_cells(const Pose2& pose, double bx0, double bx1, double by) {
+  const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
+  double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
+  for (double rx : {bx0, bx1}) {
+    for (double ry : {-by, by}) {
+      const double wx = pose.x + co * rx - si * ry, wy = pose.y + si * rx + co * ry;
+      x0 = std::min(x0, wx);
+      x1 = std::max(x1, wx);
+      y0 = std::min(y0, wy);
+      y1 = std::max(y1, wy);
+    }
+  }
+  return {std::int64_t(std::floor(x0 / kSpeckleCell)), std::int64_t(std::floor(x1 / kSpeckleCell)),
+          std::int64_t(std::floor(y0 / kSpeckleCell)), std::int64_t(std::floor(y1 / kSpeckleCell))};
+}
+
+// Cuts convex polygon `pts` to the side where a*x + b*y + c >= 0 (Sutherland-Hodgman).
+std::vector<Vec2> cut(const std::vector<Vec2>& pts, double a, double b, double c) {
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Vec2 p = pts[i], q = pts[(i + 1) % pts.size()];
+    const double gp = a * p.x + b * p.y + c, gq = a * q.x + b * q.y + c;
+    if (gp >= 0) out.push_back(p);
+    if ((gp >= 0) != (gq >= 0)) {
+      const double t = gp / (gp - gq);
+      out.push_back({p.x + (q.x - p.x) * t, p.y + (q.y - p.y) * t});
+    }
+  }
+  return out;
+}
 
 // 64-bit mix of a floor cell's integer coordinates (splitmix64 finaliser).
 std::uint64_t cell_hash(std::int64_t i, std::int64_t j) {
@@ -107,6 +148,35 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
       texture_y_ = std::max(texture_y_, std::fabs(f.y()));
     }
   }
+  // The floor half-planes that can reach the image, from camera-frame forms k . (x, y, z) + k3:
+  // a floor point maps affinely to the camera frame, so each is a half-plane of the floor.
+  const fw::Vec3 q0 = cam_.to_camera(fw::Vec3(0, 0, 0));
+  const fw::Vec3 qx = cam_.to_camera(fw::Vec3(1, 0, 0)) - q0;
+  const fw::Vec3 qy = cam_.to_camera(fw::Vec3(0, 1, 0)) - q0;
+  const double fl = cam_.fx(), m = kViewMarginPx;
+  const double forms[5][4] = {{0, 0, 1, -kNearZ},                           // z >= near plane
+                              {fl, 0, cam_.cx() + m, 0},                    // u >= -m
+                              {-fl, 0, cs.width - 1 + m - cam_.cx(), 0},    // u <= width - 1 + m
+                              {0, fl, cam_.cy() + m, 0},                    // v >= -m
+                              {0, -fl, cs.height - 1 + m - cam_.cy(), 0}};  // v <= height - 1 + m
+  for (const auto& k : forms) {
+    const double a = k[0] * qx.x() + k[1] * qx.y() + k[2] * qx.z();
+    const double b = k[0] * qy.x() + k[1] * qy.y() + k[2] * qy.z();
+    const double c = k[0] * q0.x() + k[1] * q0.y() + k[2] * q0.z() + k[3];
+    const double n = std::hypot(a, b);
+    if (n > 1e-12) {
+      view_.push_back({a / n, b / n, c / n});
+    } else if (c < 0) {
+      view_.push_back({0.0, 0.0, -1.0});  // the whole floor is on the wrong side
+    }
+  }
+  texture_region_ = {{texture_x0_ - 0.1, -texture_y_ - 0.1},
+                     {texture_x1_ + 0.1, -texture_y_ - 0.1},
+                     {texture_x1_ + 0.1, texture_y_ + 0.1},
+                     {texture_x0_ - 0.1, texture_y_ + 0.1}};
+  const double reach_out = 0.05 * kSpeckleRadius + kSlack;  // the largest speckle's radius
+  for (const HalfPlane& h : view_)
+    texture_region_ = cut(texture_region_, h.a, h.b, h.c + reach_out);
   if (noise_std_ > 0) {
     // A table of noise samples, read from a random offset each frame: per-pixel Gaussian draws
     // would cost more than the rest of the simulation together.
@@ -161,12 +231,20 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   frame.height = static_cast<std::uint16_t>(cs.height);
   cv::Mat img(cs.height, cs.width, CV_8UC3, frame.bgr.data());
   const Rgb f = effects_.expose(scenario_.floor);
-  img.setTo(cv::Scalar(f.b, f.g, f.r));
+  if (reference_) {
+    img.setTo(cv::Scalar(f.b, f.g, f.r));
+  } else {
+    fill_floor(f, img);
+  }
 
   const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
   const double cam_wx = pose.x + co * cs.x_m - si * cs.y_m;
   const double cam_wy = pose.y + si * cs.x_m + co * cs.y_m;
-  draw_texture(pose, img);
+  if (reference_) {
+    draw_texture_reference(pose, img);
+  } else {
+    draw_texture(pose, img);
+  }
   for (const Poly& poly : polys_) {
     if (std::hypot(poly.cx - cam_wx, poly.cy - cam_wy) > view_radius_m_ + poly.r) continue;
     draw(poly.pts, poly.color, pose, img);
@@ -190,27 +268,105 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   }
 }
 
+void CameraRenderer::fill_floor(Rgb c, cv::Mat& img) {
+  // The image wraps the frame's own buffer, so it is continuous: B, G, R repeated. 48 bytes (16
+  // pixels) at a time from a pattern held in registers; one large memcpy would be `rep movsb`.
+  std::uint8_t* d = img.data;
+  const std::size_t n = img.total() * 3;
+  std::uint8_t pat[48];
+  for (std::size_t k = 0; k < 48; k += 3) {
+    pat[k] = c.b;
+    pat[k + 1] = c.g;
+    pat[k + 2] = c.r;
+  }
+  std::size_t i = 0;
+  for (; i + 192 <= n; i += 192) {  // unrolled: stores, not loop overhead
+    std::memcpy(d + i, pat, 48);
+    std::memcpy(d + i + 48, pat, 48);
+    std::memcpy(d + i + 96, pat, 48);
+    std::memcpy(d + i + 144, pat, 48);
+  }
+  for (; i + 48 <= n; i += 48) std::memcpy(d + i, pat, 48);
+  for (; i < n; ++i) d[i] = pat[i % 48];
+}
+
+bool CameraRenderer::may_show(double x, double y, double r) const {
+  // Wholly on the wrong side of one half-plane: every point of the disc (and of any part of it
+  // clipped at the near plane) is behind the camera or projects 2 px or more outside the image.
+  for (const HalfPlane& h : view_) {
+    if (h.a * x + h.b * y + h.c + r < -kSlack) return false;
+  }
+  return true;
+}
+
+void CameraRenderer::speckle_quad(std::uint64_t h, double cx, double cy) {
+  const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));  // 4 to 10 cm across
+  const double a = 3.0 * unit(h, 8);
+  const double ca = std::cos(a) * half, sa = std::sin(a) * half;
+  speckle_.assign({{cx + ca - sa, cy + sa + ca},
+                   {cx - ca - sa, cy - sa + ca},
+                   {cx - ca + sa, cy - sa - ca},
+                   {cx + ca + sa, cy + sa - ca}});
+}
+
 void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
   const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
-  // World box round the robot-frame box of visible floor.
-  double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
-  for (double rx : {texture_x0_, texture_x1_}) {
-    for (double ry : {-texture_y_, texture_y_}) {
-      const double wx = pose.x + co * rx - si * ry, wy = pose.y + si * rx + co * ry;
-      x0 = std::min(x0, wx);
-      x1 = std::max(x1, wx);
-      y0 = std::min(y0, wy);
-      y1 = std::max(y1, wy);
-    }
+  const CellBox box = texture_cells(pose, texture_x0_, texture_x1_, texture_y_);
+  // The region of centres that may show, in the world.
+  region_world_.clear();
+  for (const Vec2& p : texture_region_) {
+    region_world_.push_back({pose.x + co * p.x - si * p.y, pose.y + si * p.x + co * p.y});
   }
-  const auto i0 = std::int64_t(std::floor(x0 / kSpeckleCell));
-  const auto i1 = std::int64_t(std::floor(x1 / kSpeckleCell));
-  const auto j0 = std::int64_t(std::floor(y0 / kSpeckleCell));
-  const auto j1 = std::int64_t(std::floor(y1 / kSpeckleCell));
-  for (std::int64_t i = i0; i <= i1; ++i) {
+  const std::size_t nr = region_world_.size();
+  if (nr < 3) return;
+  for (std::int64_t i = box.i0; i <= box.i1; ++i) {
+    // The region's y range over this column of cells: its vertices in it and its edges' crossings.
+    const double xa = double(i) * kSpeckleCell - kSlack, xb = double(i + 1) * kSpeckleCell + kSlack;
+    double lo = 1e18, hi = -1e18;
+    for (std::size_t k = 0; k < nr; ++k) {
+      const Vec2 p = region_world_[k], q = region_world_[(k + 1) % nr];
+      if (p.x >= xa && p.x <= xb) {
+        lo = std::min(lo, p.y);
+        hi = std::max(hi, p.y);
+      }
+      for (const double x : {xa, xb}) {
+        if ((p.x < x) != (q.x < x)) {
+          const double y = p.y + (q.y - p.y) * (x - p.x) / (q.x - p.x);
+          lo = std::min(lo, y);
+          hi = std::max(hi, y);
+        }
+      }
+    }
+    if (lo > hi) continue;
+    const std::int64_t j0 =
+        std::max(box.j0, std::int64_t(std::floor((lo - kSlack) / kSpeckleCell)));
+    const std::int64_t j1 =
+        std::min(box.j1, std::int64_t(std::floor((hi + kSlack) / kSpeckleCell)));
     for (std::int64_t j = j0; j <= j1; ++j) {
       const std::uint64_t h = cell_hash(i, j);
-      const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));  // 4 to 10 cm across
+      const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));
+      const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
+      const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
+      const double dx = cx - pose.x, dy = cy - pose.y;
+      const double rx = co * dx + si * dy, ry = -si * dx + co * dy;
+      if (rx < texture_x0_ - 0.1 || rx > texture_x1_ + 0.1 || std::fabs(ry) > texture_y_ + 0.1) {
+        continue;
+      }
+      if (!may_show(rx, ry, half * kSpeckleRadius)) continue;
+      speckle_quad(h, cx, cy);
+      const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
+      draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
+    }
+  }
+}
+
+void CameraRenderer::draw_texture_reference(const Pose2& pose, cv::Mat& img) {
+  const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
+  // World box round the robot-frame box of visible floor.
+  const CellBox box = texture_cells(pose, texture_x0_, texture_x1_, texture_y_);
+  for (std::int64_t i = box.i0; i <= box.i1; ++i) {
+    for (std::int64_t j = box.j0; j <= box.j1; ++j) {
+      const std::uint64_t h = cell_hash(i, j);
       const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
       const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
       // Outside the robot-frame box of visible floor (the world box is larger when turned)?
@@ -220,14 +376,8 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
         continue;
       }
       // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15 at the default speckle.
-      const double u = unit(h, 48);
-      const double f = speckle_shade(scenario_.floor_speckle, u);
-      const double a = 3.0 * unit(h, 8);
-      const double ca = std::cos(a) * half, sa = std::sin(a) * half;
-      speckle_.assign({{cx + ca - sa, cy + sa + ca},
-                       {cx - ca - sa, cy - sa + ca},
-                       {cx - ca + sa, cy - sa - ca},
-                       {cx + ca + sa, cy + sa - ca}});
+      const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
+      speckle_quad(h, cx, cy);
       draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
     }
   }

@@ -30,6 +30,8 @@ class CameraRenderer {
   const fw::CameraModel& model() const { return cam_; }
   // Renders the view from a robot at `pose` into `frame` (width/height set from the camera spec).
   void render(const Pose2& pose, hal::CameraFrame& frame);
+  // Test only: render with the plain floor fill and texture walk the fast paths must equal.
+  void use_reference_path(bool on) { reference_ = on; }
 
  private:
   struct Poly {
@@ -42,13 +44,32 @@ class CameraRenderer {
   void add_tape(const std::vector<Vec2>& pts, double width_m, Rgb color);
   // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
   void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
+  // The floor texture: the cells that may show, in world order; speckles that cannot show skipped.
   void draw_texture(const Pose2& pose, cv::Mat& img);
+  // The plain texture walk (every cell of the world box round the visible floor), for tests.
+  void draw_texture_reference(const Pose2& pose, cv::Mat& img);
+  // Speckle `h`'s quad round its world centre (cx, cy) [m], 4 to 10 cm across; into speckle_.
+  void speckle_quad(std::uint64_t h, double cx, double cy);
+  // Sets every pixel of `img` to colour `c` (the bytes cv::Mat::setTo writes, without its loop).
+  static void fill_floor(Rgb c, cv::Mat& img);
+  // Whether a floor disc at robot-frame (x, y) of radius r [m] can put a pixel in the image.
+  bool may_show(double x, double y, double r) const;
 
   const Scenario& scenario_;
   fw::CameraModel cam_;
   std::vector<Poly> polys_;  // drawn in order: obstacles last, over the tape
   double view_radius_m_;     // floor points further than this from the camera are not visible
   double texture_x0_, texture_x1_, texture_y_;  // robot-frame box holding the visible floor [m]
+  // Robot-frame floor half-planes a*x + b*y + c >= 0 [m] ((a, b) a unit vector): a point on the
+  // negative side of any is behind the near plane or projects 2 px or more outside the image.
+  struct HalfPlane {
+    double a, b, c;
+  };
+  std::vector<HalfPlane> view_;
+  // Robot-frame convex polygon holding every speckle centre that may show: the centre box cut by
+  // the half-planes moved out by the largest speckle radius. Its world copy is rebuilt per frame.
+  std::vector<Vec2> texture_region_, region_world_;
+  bool reference_ = false;
   std::vector<fw::Vec3> in_, out_;
   std::vector<cv::Point> px_;
   std::vector<Vec2> speckle_;

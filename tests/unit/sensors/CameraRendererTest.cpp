@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <random>
+#include <string>
 
 #include "hal/Types.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
@@ -197,6 +199,88 @@ TEST(CameraRendererTest, NoiseSaturatesInsteadOfWrapping) {
     EXPECT_EQ(far, 0) << level;
     EXPECT_GT(changed, 3 * 640 * 480) << level;  // about half of them move away from the bound
   }
+}
+
+// A scenario file of the repository, loaded as a run would.
+Scenario repo_scenario(const char* name) {
+  LoadResult r =
+      load_scenario(std::string(CARRIL_SOURCE_DIR) + "/scenarios/" + name, test::robots_dir());
+  EXPECT_TRUE(r.ok) << r.error;
+  return r.scenario;
+}
+
+// A robot pose near the scenario's tape, marks or obstacles (or anywhere near the course), at any
+// heading: most frames show tape, speckles and shapes cut by the image border.
+Pose2 random_pose(const Scenario& s, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double pick = u(rng);
+  Vec2 c{0.0, 0.0};
+  if (pick < 0.6 && !s.lines.empty()) {
+    const auto& pts = s.lines[std::size_t(u(rng) * double(s.lines.size()))].points;
+    const std::size_t k = std::size_t(u(rng) * double(pts.size() - 1));
+    const Vec2 a = pts[k], b = pts[std::min(k + 1, pts.size() - 1)];
+    const double t = u(rng);
+    c = {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t};
+  } else if (pick < 0.75 && !s.marks.empty()) {
+    c = s.marks[std::size_t(u(rng) * double(s.marks.size()))].center;
+  } else if (pick < 0.9 && !s.obstacles.empty()) {
+    c = s.obstacles[std::size_t(u(rng) * double(s.obstacles.size()))].center;
+  } else {
+    c = {-30.0 + 60.0 * u(rng), -30.0 + 60.0 * u(rng)};
+  }
+  return {c.x + 3.0 * (u(rng) - 0.5), c.y + 3.0 * (u(rng) - 0.5), 2.0 * M_PI * (u(rng) - 0.5)};
+}
+
+// The fast paths (floor fill, culled texture walk) write exactly the bytes of the plain ones:
+// random poses over the repository's courses with worn tape, speckle, exposure, glare, noise
+// and camera mounts from steep to above the horizon, a sequence of frames per renderer pair.
+TEST(CameraRendererTest, FastPathsEqualReferenceByteForByte) {
+  struct Case {
+    const char* file;
+    double speckle, exposure, glare, noise, fade, gaps, tilt_deg, hfov_deg, z_m, y_m;
+    int width, height;
+  };
+  const Case cases[] = {
+      {"square.yaml", -1, 1.0, 0, 0, 0, 0, -1, -1, -1, 0, 640, 480},
+      {"circle.yaml", 0.15, 1.1, 40, 0, 0.1, 0.05, -1, -1, -1, 0, 640, 480},
+      {"corners.yaml", 0.2, 0.9, 60, 4, 0.25, 0.1, -1, -1, -1, 0, 640, 480},
+      {"smooth_red.yaml", 0.1, 1.2, 20, 2, 0.2, 0.08, -1, -1, -1, 0, 640, 480},
+      {"corners_red.yaml", 0.3, 0.85, 0, 0, 0, 0, 12, 70, 0.3, 0.05, 640, 480},
+      {"smooth.yaml", 0.0, 1.0, 30, 0, 0, 0, 88, 60, 0.8, -0.1, 640, 480},
+      {"taxi_city.yaml", 0.18, 1.05, 0, 0, 0.1, 0.2, 30, 100, 0.2, 0, 320, 240},
+      {"corridor_blocked.yaml", 0.12, 1.0, 50, 0, 0, 0, 5, 50, 1.2, 0, 640, 480},
+  };
+  std::mt19937_64 rng(2024);
+  auto fast = std::make_unique<hal::CameraFrame>(), ref = std::make_unique<hal::CameraFrame>();
+  int frames = 0;
+  for (const Case& c : cases) {
+    Scenario s = repo_scenario(c.file);
+    if (c.speckle >= 0) s.floor_speckle = c.speckle;
+    CameraSpec& cam = s.robot.camera;
+    cam.exposure = c.exposure;
+    cam.noise_std = c.noise;
+    s.glare.intensity = c.glare;
+    s.tape_wear.fade = c.fade;
+    s.tape_wear.gaps_per_m = c.gaps;
+    if (c.tilt_deg > 0) cam.tilt_deg = c.tilt_deg;
+    if (c.hfov_deg > 0) cam.hfov_deg = c.hfov_deg;
+    if (c.z_m > 0) cam.z_m = c.z_m;
+    cam.y_m += c.y_m;
+    cam.width = c.width;
+    cam.height = c.height;
+    CameraRenderer a(s, 3), b(s, 3);
+    b.use_reference_path(true);
+    for (int k = 0; k < 150; ++k) {
+      const Pose2 pose = random_pose(s, rng);
+      a.render(pose, *fast);
+      b.render(pose, *ref);
+      ASSERT_EQ(0, std::memcmp(fast->bgr.data(), ref->bgr.data(),
+                               std::size_t(c.width) * std::size_t(c.height) * 3))
+          << c.file << " frame " << k << " pose " << pose.x << " " << pose.y << " " << pose.yaw_rad;
+      ++frames;
+    }
+  }
+  EXPECT_EQ(frames, 8 * 150);
 }
 
 }  // namespace
