@@ -8,20 +8,6 @@ namespace carril::sim {
 namespace {
 constexpr double kDeg = M_PI / 180.0;
 
-// Closest hit along the ray, ignoring the robot's own body.
-class ClosestHit : public b2RayCastCallback {
- public:
-  explicit ClosestHit(const b2Body* self) : self_(self) {}
-  float ReportFixture(b2Fixture* f, const b2Vec2&, const b2Vec2&, float fraction) override {
-    if (f->GetBody() == self_) return -1.0F;  // pass through
-    if (fraction < best) best = fraction;
-    return fraction;  // clip the ray: only closer hits are reported afterwards
-  }
-  float best = 2.0F;
-
- private:
-  const b2Body* self_;
-};
 }  // namespace
 
 LidarSim::LidarSim(const LidarSpec& spec, std::uint64_t seed)
@@ -45,15 +31,15 @@ void LidarSim::scan(const SimWorld& world, hal::LaserScan& out) {
   out.range_min_m = float(spec_.range_min_m);
   out.range_max_m = float(spec_.range_max_m);
   const b2Vec2 origin{float(ox), float(oy)};
+  caster_.prepare(world.world(), world.robot_body());  // every body but the robot's own
   for (int i = 0; i < n; ++i) {
     const double a = p.yaw_rad + spec_.yaw_deg * kDeg - fov / 2 + i * inc;
     const b2Vec2 end{float(ox + std::cos(a) * spec_.range_max_m),
                      float(oy + std::sin(a) * spec_.range_max_m)};
-    ClosestHit hit(world.robot_body());
-    world.world().RayCast(&hit, origin, end);
+    const float best = caster_.cast(origin, end);
     float r = std::numeric_limits<float>::infinity();
-    if (hit.best <= 1.0F) {
-      double d = double(hit.best) * spec_.range_max_m;
+    if (best <= 1.0F) {
+      double d = double(best) * spec_.range_max_m;
       if (spec_.noise_std_m > 0) d += noise_(rng_);
       r = float(std::max(d, spec_.range_min_m));
     }

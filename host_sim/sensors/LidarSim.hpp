@@ -1,12 +1,14 @@
 #pragma once
-// 2D lidar by Box2D ray casts from the mount pose; ranges get Gaussian noise. A beam with no hit
-// within range_max reports +inf (the convention real drivers use for "nothing seen"), as does a
-// dropped beam (LidarSpec::dropout: each beam of each scan lost with that probability).
+// 2D lidar by Box2D ray casts from the mount pose (RayCaster: the closest hits b2World::RayCast
+// finds); ranges get Gaussian noise. A beam with no hit within range_max reports +inf (the
+// convention real drivers use for "nothing seen"), as does a dropped beam (LidarSpec::dropout: each
+// beam of each scan lost with that probability).
 #include <cstdint>
 #include <random>
 
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/sensors/RayCaster.hpp"
 #include "host_sim/world/SimWorld.hpp"
 
 namespace carril::sim {
@@ -22,6 +24,7 @@ class LidarSim {
   std::normal_distribution<double> noise_;
   std::mt19937_64 drop_rng_;  // its own: dropping beams does not move the noise's draws
   std::uniform_real_distribution<double> drop_{0.0, 1.0};
+  RayCaster caster_;  // the world's fixtures, gathered once per scan
 };
 
 }  // namespace carril::sim
