@@ -299,6 +299,18 @@ bool CameraRenderer::may_show(double x, double y, double r) const {
   return true;
 }
 
+bool CameraRenderer::speckle_centre(const Pose2& pose, double co, double si, std::uint64_t h,
+                                    std::int64_t i, std::int64_t j, Vec2& world,
+                                    Vec2& robot) const {
+  world = {(double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell,
+           (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell};
+  const double dx = world.x - pose.x, dy = world.y - pose.y;
+  robot = {co * dx + si * dy, -si * dx + co * dy};
+  // Outside the robot-frame box of visible floor (the world box is larger when turned)?
+  return robot.x >= texture_x0_ - 0.1 && robot.x <= texture_x1_ + 0.1 &&
+         std::fabs(robot.y) <= texture_y_ + 0.1;
+}
+
 void CameraRenderer::speckle_quad(std::uint64_t h, double cx, double cy) {
   const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));  // 4 to 10 cm across
   const double a = 3.0 * unit(h, 8);
@@ -344,16 +356,11 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
         std::min(box.j1, std::int64_t(std::floor((hi + kSlack) / kSpeckleCell)));
     for (std::int64_t j = j0; j <= j1; ++j) {
       const std::uint64_t h = cell_hash(i, j);
+      Vec2 c, r;
+      if (!speckle_centre(pose, co, si, h, i, j, c, r)) continue;
       const double half = 0.5 * (0.04 + 0.06 * unit(h, 0));
-      const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
-      const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
-      const double dx = cx - pose.x, dy = cy - pose.y;
-      const double rx = co * dx + si * dy, ry = -si * dx + co * dy;
-      if (rx < texture_x0_ - 0.1 || rx > texture_x1_ + 0.1 || std::fabs(ry) > texture_y_ + 0.1) {
-        continue;
-      }
-      if (!may_show(rx, ry, half * kSpeckleRadius)) continue;
-      speckle_quad(h, cx, cy);
+      if (!may_show(r.x, r.y, half * kSpeckleRadius)) continue;
+      speckle_quad(h, c.x, c.y);
       const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
       draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
     }
@@ -367,17 +374,11 @@ void CameraRenderer::draw_texture_reference(const Pose2& pose, cv::Mat& img) {
   for (std::int64_t i = box.i0; i <= box.i1; ++i) {
     for (std::int64_t j = box.j0; j <= box.j1; ++j) {
       const std::uint64_t h = cell_hash(i, j);
-      const double cx = (double(i) + 0.2 + 0.6 * unit(h, 16)) * kSpeckleCell;
-      const double cy = (double(j) + 0.2 + 0.6 * unit(h, 32)) * kSpeckleCell;
-      // Outside the robot-frame box of visible floor (the world box is larger when turned)?
-      const double dx = cx - pose.x, dy = cy - pose.y;
-      const double rx = co * dx + si * dy, ry = -si * dx + co * dy;
-      if (rx < texture_x0_ - 0.1 || rx > texture_x1_ + 0.1 || std::fabs(ry) > texture_y_ + 0.1) {
-        continue;
-      }
+      Vec2 c, r;
+      if (!speckle_centre(pose, co, si, h, i, j, c, r)) continue;
       // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15 at the default speckle.
       const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
-      speckle_quad(h, cx, cy);
+      speckle_quad(h, c.x, c.y);
       draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
     }
   }

@@ -50,6 +50,11 @@ class CameraRenderer {
   void draw_texture_reference(const Pose2& pose, cv::Mat& img);
   // Speckle `h`'s quad round its world centre (cx, cy) [m], 4 to 10 cm across; into speckle_.
   void speckle_quad(std::uint64_t h, double cx, double cy);
+  // The speckle of floor cell (i, j) with hash h: its centre in the world and in the frame of a
+  // robot at `pose` (co, si: cos and sin of its yaw) [m]; false when outside the robot-frame box
+  // of visible floor.
+  bool speckle_centre(const Pose2& pose, double co, double si, std::uint64_t h, std::int64_t i,
+                      std::int64_t j, Vec2& world, Vec2& robot) const;
   // Sets every pixel of `img` to colour `c` (the bytes cv::Mat::setTo writes, without its loop).
   static void fill_floor(Rgb c, cv::Mat& img);
   // Whether a floor disc at robot-frame (x, y) of radius r [m] can put a pixel in the image.

@@ -383,16 +383,23 @@ TEST(LineBehaviorEndReveal, AGlimpsedMarkIsBackedUpToThenDrivenOnto) {
   EXPECT_EQ(s.phases, Phases({"find", "track", "reveal", "approach", "stopped"}));
 }
 
-TEST(LineBehaviorEndReveal, AMarkNeverSeenWholeEndsInTheSearchOnceBackedUpTheLimit) {
-  Sim s(false);
+// On the tape, which then runs out; a mark glimpsed `ahead` metres ahead (none when negative).
+// Returns where the robot stood when the tape ran out.
+Vec2 tape_ends_with_a_glimpse(Sim& s, double ahead) {
   s.start_on_tape();
   const Vec2 from(s.pose.x, s.pose.y);
   s.tape_in_view = false;
   s.tape_in_map = false;
-  s.script = [&](BehaviorInput& in) {
-    in.end_glimpsed = true;
-    in.end_glimpse_odom = from + Vec2(0.4, 0.0);
+  s.script = [from, ahead](BehaviorInput& in) {
+    in.end_glimpsed = ahead >= 0.0;
+    in.end_glimpse_odom = from + Vec2(ahead, 0.0);
   };
+  return from;
+}
+
+TEST(LineBehaviorEndReveal, AMarkNeverSeenWholeEndsInTheSearchOnceBackedUpTheLimit) {
+  Sim s(false);
+  const Vec2 from = tape_ends_with_a_glimpse(s, 0.4);
   ASSERT_TRUE(s.run_until([&] { return s.mb.state() == LineState::Search; }, 2000));
   EXPECT_NEAR((from - Vec2(s.pose.x, s.pose.y)).norm(), s.cfg.end_reveal_m, 0.01);
   EXPECT_EQ(s.mb.line_lost_events(), 1U);
@@ -403,14 +410,7 @@ TEST(LineBehaviorEndReveal, AGlimpseFarAwayOrNoneLeavesTheSearchAsItWas) {
   for (const double away : {-1.0, 1.2}) {
     SCOPED_TRACE(away);
     Sim s(false);
-    s.start_on_tape();
-    const Vec2 from(s.pose.x, s.pose.y);
-    s.tape_in_view = false;
-    s.tape_in_map = false;
-    s.script = [&](BehaviorInput& in) {
-      in.end_glimpsed = away > 0.0;  // none at all, or one beyond end_reveal_m
-      in.end_glimpse_odom = from + Vec2(away, 0.0);
-    };
+    tape_ends_with_a_glimpse(s, away);  // none at all, or one beyond end_reveal_m
     ASSERT_TRUE(s.run_until([&] { return s.mb.state() != LineState::Follow; }, 100));
     EXPECT_EQ(s.mb.state(), LineState::Search);
   }
