@@ -1,6 +1,7 @@
 #include "firmware/perception/BlobRefiner.hpp"
 
 #include <bit>
+#include <cassert>
 #include <cstring>
 
 #include "firmware/perception/BitRuns.hpp"
@@ -234,7 +235,9 @@ void BlobRefiner::blur_chunk(const std::uint8_t* bgr, int u0, int v0, int rows,
   std::uint64_t* tags = htag_.get() + std::size_t(chunk) * kHSlots;
   std::uint16_t* ring = hsum_.get() + std::size_t(chunk) * kHSlots * kChunkBytes;
   const std::uint64_t gen = gen_ << 16;
+  assert(rows >= 1 && rows <= kChunkRows);
   const std::uint16_t* hs[kChunkRows + 4];
+  for (const std::uint16_t*& h : hs) h = ring;  // valid in every entry; rows + 4 are set below
   for (int r = 0; r < rows + 4; ++r) {
     const int v = v0 - 2 + r, slot = v & (kHSlots - 1);
     std::uint16_t* h = ring + slot * kChunkBytes;
