@@ -115,6 +115,7 @@ HilRun::HilRun(const Scenario& scenario, std::uint64_t seed, hal::CanBus& wire,
       metrics_(scenario),
       camera_(scenario, seed),
       lidar_(scenario.robot.lidar, seed),
+      gyro_(scenario.robot.imu, seed),
       drive_bus_([&] {
         hal::LoopbackCanBus::Config c;
         c.endpoints = world_.wheel_count() + 1;  // the drives, then the bridge
@@ -254,7 +255,7 @@ void HilRun::publish_sensors() {
     hal::ImuSample imu;
     imu.stamp_ns = t_ns;
     imu.valid = true;
-    imu.yaw_rate_radps = static_cast<float>(wz);  // flat floor: roll and pitch zero
+    imu.yaw_rate_radps = gyro_.read(wz);  // flat floor: roll and pitch zero
     shm_.publish_imu(imu);
     next_imu_s_ += 1.0 / scenario_.robot.control_rate_hz;
   }

@@ -22,6 +22,7 @@
 #include "host_sim/metrics/RunMetrics.hpp"
 #include "host_sim/scenario/Scenario.hpp"
 #include "host_sim/sensors/CameraRenderer.hpp"
+#include "host_sim/sensors/GyroSim.hpp"
 #include "host_sim/sensors/LidarSim.hpp"
 #include "host_sim/world/SimWorld.hpp"
 #include "loader/ControllerSpec.hpp"
@@ -116,6 +117,7 @@ class HilRun {
   RunMetrics metrics_;
   CameraRenderer camera_;
   LidarSim lidar_;
+  GyroSim gyro_;  // the IMU's yaw rate with the robot file's gyro errors, as in SimRun
   hal::LoopbackCanBus drive_bus_;
   std::vector<std::unique_ptr<DriveEmulator>> drives_;
   ScipServer scip_;

@@ -8,8 +8,11 @@
 #include <cmath>
 #include <string>
 
+#include <unistd.h>
+
 #include "hal/can/LoopbackCanBus.hpp"
 #include "hal/canopen/CanopenWheelDrives.hpp"
+#include "hal/linux/ShmSensorLink.hpp"
 #include "host_sim/scenario/ScenarioLoader.hpp"
 #include "loader/ControllerLoader.hpp"
 
@@ -132,6 +135,40 @@ TEST(HilRun, AnInjectedHeartbeatSilenceBecomesTheMastersFaultAndEveryWheelStops)
   const std::string json = r.hil->summary_json();
   EXPECT_NE(json.find("\"what\": \"4:2:heartbeat_silence\", \"applied\": true"), std::string::npos)
       << json;
+}
+
+// The IMU in shared memory reads as the simulator's gyro does (GyroSim: the robot file's bias
+// and noise on the true yaw rate), not the truth: the controller's odometry takes its heading
+// from it, and a noise-free gyro would make hardware-in-the-loop runs better than a real robot.
+TEST(HilRun, TheSharedMemoryImuCarriesTheRobotsGyroErrors) {
+  Rig r;
+  r.hil.reset();
+  r.cfg.shm_name = "/carril_test_hil_gyro_" + std::to_string(getpid());
+  r.hil = std::make_unique<HilRun>(r.scenario, 1, r.wire.endpoint(1), r.cfg);
+  std::string error;
+  ASSERT_TRUE(r.hil->open(error)) << error;
+  hal::ShmSensorReader reader;
+  ASSERT_TRUE(reader.open(r.cfg.shm_name.c_str())) << reader.error();
+  ASSERT_GT(r.scenario.robot.imu.gyro_noise_std_radps, 0.0);
+  // Drives never enabled: the robot stands still, its true yaw rate 0.
+  double sum = 0.0, sum2 = 0.0;
+  int n = 0, distinct = 0;
+  float last = 0.0F;
+  for (int k = 0; k < 400; ++k) {
+    r.world();
+    const hal::ImuSample s = reader.imu().read();
+    if (!s.valid) continue;
+    distinct += n > 0 && s.yaw_rate_radps != last ? 1 : 0;
+    last = s.yaw_rate_radps;
+    sum += s.yaw_rate_radps;
+    sum2 += double(s.yaw_rate_radps) * s.yaw_rate_radps;
+    ++n;
+  }
+  ASSERT_GT(n, 300);
+  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_GT(distinct, n / 2);
+  EXPECT_NEAR(mean, r.scenario.robot.imu.gyro_bias_radps, 4.0 * sd / std::sqrt(double(n)));
+  EXPECT_NEAR(sd, r.scenario.robot.imu.gyro_noise_std_radps, 0.25 * sd);
 }
 
 TEST(HilRun, ABadInjectionIsNamed) {
