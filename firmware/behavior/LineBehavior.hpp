@@ -91,8 +91,10 @@ struct BehaviorInput {
   bool fresh_scan = false;        // a scan was processed this tick
   bool obstacle_ahead = false;    // the mission runner sees an obstacle ahead (asked in FOLLOW)
   TrackState track;               // the robot against the remembered tape
-  bool tape_far_valid = false;    // the farthest remembered stretch of tape (where it runs into an
-  Vec2 tape_far_point = Vec2::Zero();  // obstacle, if one stands on it), odometry frame
+  // The farthest remembered stretch of tape (where it runs into an obstacle, if one stands on
+  // it), odometry frame; FollowLineMission finds it only when obstacle_ahead.
+  bool tape_far_valid = false;
+  Vec2 tape_far_point = Vec2::Zero();
   double tape_far_heading = 0.0;
   bool end_known = false;                // an end mark has been seen
   Vec2 end_odom = Vec2::Zero();          // its position, odometry frame [m]

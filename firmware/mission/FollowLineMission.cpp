@@ -66,7 +66,6 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   in.track =
       map_.track(odom.pose, s.strategy == Strategy::Pid ? s.pid_lookahead_m : s.marks_lookahead_m,
                  cfg_.tape_preview_m);
-  in.tape_far_valid = map_.far_segment(0.3, in.tape_far_point, in.tape_far_heading);
   in.end_known = end_known_;
   in.end_odom = end_odom_;
   in.end_glimpsed = end_glimpsed_;
@@ -80,8 +79,11 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
     in.costmap_updated = costmap_->updates() != costmap_seen_;
     costmap_seen_ = costmap_->updates();
   }
-  // The runner answers the obstacle question; FOLLOW is the state that acts on it.
+  // The runner answers the obstacle question; FOLLOW is the state that acts on it, and the far
+  // tape segment (where the tape runs into the obstacle) is only read then.
   in.obstacle_ahead = behavior_.state() == LineState::Follow && ctx.obstacle_ahead();
+  in.tape_far_valid =
+      in.obstacle_ahead && map_.far_segment(0.3, in.tape_far_point, in.tape_far_heading);
   return in;
 }
 
