@@ -8,6 +8,10 @@ namespace {
 constexpr double kMinSpacing = 0.06;    // [m] between stored points: headings from shorter
                                         // steps would be mostly pixel noise
 constexpr double kBackExtension = 1.5;  // tape assumed straight behind the first point [m]
+// A frame's last two points are dropped when both are steps shorter than this (two minimum
+// spacings) and they turn the path by more than kTailMaxTurnRad together.
+constexpr double kTailMaxStep = 2.0 * kMinSpacing;  // [m]
+constexpr double kTailMaxTurnRad = 2.356;           // 135 deg
 
 }  // namespace
 
@@ -35,6 +39,23 @@ void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
       if (a.dot(b) < -0.2 * a.norm() * b.norm()) continue;
     }
     pts_.push_back(w);
+  }
+  // A ragged tail: the frame's last two points, each a short step, turning the path back on
+  // itself (together by more than 135 deg). A strip of tape lying across the image (a corner's
+  // new leg along the bottom of the view) gives centroids of row bands that bunch in its middle,
+  // the last ones from its ragged top rows; they zig-zag back across the corner, and the
+  // controller would steer by that false turn. A real corner turns the path once.
+  while (pts_.size() >= 4) {
+    const std::size_t n_pts = pts_.size();
+    const Vec2 a = pts_[n_pts - 3] - pts_[n_pts - 4], b = pts_[n_pts - 2] - pts_[n_pts - 3],
+               c = pts_.back() - pts_[n_pts - 2];
+    if (b.norm() >= kTailMaxStep || c.norm() >= kTailMaxStep) break;
+    const auto turn = [](const Vec2& u, const Vec2& v) {
+      return std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+    };
+    if (std::fabs(turn(a, b) + turn(b, c)) <= kTailMaxTurnRad) break;
+    pts_.pop_back();
+    pts_.pop_back();
   }
 }
 

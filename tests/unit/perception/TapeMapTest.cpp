@@ -147,6 +147,38 @@ TEST(TapeMapTest, AddSkipsPointsCloserThanTheMinimumSpacing) {
   EXPECT_GE(m.size(), 5U);
 }
 
+// Variant 684 of the thesis campaign: a corner's new leg seen only as a strip across the bottom of
+// the view. Its row-band centroids bunch, and the frame's last two points zig-zag back across the
+// corner; the memory keeps the new leg's direction, not a false right turn at its end.
+TEST(TapeMapTest, ARaggedTailOfShortSharpStepsIsDropped) {
+  TapeMap m;
+  std::vector<Vec2> pts;
+  for (int i = 0; i <= 4; ++i) pts.emplace_back(0.7 + 0.07 * i, 0.0);  // the old leg, to x = 0.98
+  pts.emplace_back(0.98, 0.22);                                        // the new leg, turning left
+  pts.emplace_back(1.04, 0.21);                                        // 6 cm to the right
+  pts.emplace_back(1.05, 0.11);  // and back down across the corner
+  add(m, Pose2{}, pts);
+  ASSERT_GE(m.size(), 3U);
+  const Vec2 last = m.points()[m.size() - 1], before = m.points()[m.size() - 2];
+  EXPECT_NEAR(last.x(), 0.98, 1e-9);
+  EXPECT_NEAR(last.y(), 0.22, 1e-9);
+  EXPECT_NEAR(std::atan2(last.y() - before.y(), last.x() - before.x()), kPi / 2, 1e-9);
+  // A real corner's new leg, a step of two spacings or more, stays.
+  TapeMap corner;
+  pts.resize(6);
+  pts.emplace_back(0.98, 0.35);
+  add(corner, Pose2{}, pts);
+  EXPECT_NEAR(corner.points()[corner.size() - 1].y(), 0.35, 1e-9);
+  // So do short steps that turn the path once, as a corner does.
+  TapeMap once;
+  std::vector<Vec2> bend;
+  for (int i = 0; i <= 4; ++i) bend.emplace_back(0.7 + 0.07 * i, 0.0);
+  bend.emplace_back(0.99, 0.07);
+  bend.emplace_back(0.99, 0.15);
+  add(once, Pose2{}, bend);
+  EXPECT_NEAR(once.points()[once.size() - 1].y(), 0.15, 1e-9);
+}
+
 TEST(TapeMapTest, CapacityIsRespected) {
   TapeMap m;
   Pose2 o;
