@@ -11,35 +11,67 @@ namespace {
 using bits::kAll;
 using bits::valid_bits;
 
+bool row_empty(const std::uint64_t* r, int stride) {
+  std::uint64_t any = 0;
+  for (int k = 0; k < stride; ++k) any |= r[k];
+  return any == 0;
+}
+
 // 3x3 min (erode) or max (dilate) filter, separable: along rows into tmp, then across rows.
 // Outside the image is `fill`: set for erosion, clear for dilation.
+// Only the rows that can come out non-empty are computed: a mask is mostly empty (the end-mark
+// mask usually wholly), and an empty row filters to an empty row in either pass (erosion's
+// padding bits aside, which the last word's mask removes), so rows of `src` outside its first
+// and last non-empty row read as zero, and the result is the same as over the whole image.
 template <bool kErode>
 void morph(const BitImage& src, const BitImage& dst, const BitImage& tmp) {
   const std::uint64_t fill = kErode ? kAll : 0;
-  const int s = src.stride;
+  const int s = src.stride, h = src.height;
+  int y0 = 0, y1 = h - 1;
+  while (y0 < h && row_empty(src.row(y0), s)) ++y0;
+  while (y1 >= y0 && row_empty(src.row(y1), s)) --y1;
+  // Rows of the result that can be non-empty: erosion keeps within the set rows, dilation grows
+  // them by one.
+  const bool empty = y0 > y1;
+  const int a = kErode || empty ? y0 : (y0 > 0 ? y0 - 1 : 0);
+  const int b = kErode || empty ? y1 : (y1 + 1 < h ? y1 + 1 : h - 1);
+  if (dst.bits != src.bits) {
+    for (int y = 0; y < h; ++y) {
+      if (y >= a && y <= b) continue;
+      std::uint64_t* out = dst.row(y);
+      for (int k = 0; k < s; ++k) out[k] = 0;
+    }
+  }
+  if (empty) return;  // empty in, empty out
   const std::uint64_t last = valid_bits(src.width, s - 1);
-  for (int y = 0; y < src.height; ++y) {
+  for (int y = y0; y <= y1; ++y) {
     const std::uint64_t* r = src.row(y);
-    std::uint64_t* h = tmp.row(y);
+    std::uint64_t* t = tmp.row(y);
     std::uint64_t prev = fill;
     std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
     for (int k = 0; k < s; ++k) {
       const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
       const std::uint64_t left = (cur << 1) | (prev >> 63);   // bit x holds cell x - 1
       const std::uint64_t right = (cur >> 1) | (next << 63);  // bit x holds cell x + 1
-      h[k] = kErode ? (cur & left & right) : (cur | left | right);
+      t[k] = kErode ? (cur & left & right) : (cur | left | right);
       prev = cur;
       cur = next;
     }
   }
-  for (int y = 0; y < src.height; ++y) {
-    const std::uint64_t* up = y > 0 ? tmp.row(y - 1) : nullptr;
-    const std::uint64_t* mid = tmp.row(y);
-    const std::uint64_t* dn = y + 1 < src.height ? tmp.row(y + 1) : nullptr;
+  // A neighbour row outside the image is `fill`; one inside it but outside [y0, y1] is empty.
+  const auto tmp_row = [&](int y, std::uint64_t& constant) -> const std::uint64_t* {
+    constant = y < 0 || y >= h ? fill : 0;
+    return y >= y0 && y <= y1 ? tmp.row(y) : nullptr;
+  };
+  for (int y = a; y <= b; ++y) {
+    std::uint64_t up_c = 0, mid_c = 0, dn_c = 0;
+    const std::uint64_t* up = tmp_row(y - 1, up_c);
+    const std::uint64_t* mid = tmp_row(y, mid_c);
+    const std::uint64_t* dn = tmp_row(y + 1, dn_c);
     std::uint64_t* out = dst.row(y);
     for (int k = 0; k < s; ++k) {
-      const std::uint64_t a = up ? up[k] : fill, b = dn ? dn[k] : fill;
-      const std::uint64_t v = kErode ? (a & mid[k] & b) : (a | mid[k] | b);
+      const std::uint64_t u = up ? up[k] : up_c, m = mid ? mid[k] : mid_c, d = dn ? dn[k] : dn_c;
+      const std::uint64_t v = kErode ? (u & m & d) : (u | m | d);
       out[k] = k + 1 < s ? v : (v & last);
     }
   }
