@@ -6,6 +6,7 @@
 
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
+#include "firmware/perception/Lanes.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -137,31 +138,10 @@ bool pixel_in(const std::uint8_t* img, int w, int h, int u, int v, const ColorTh
 
 constexpr int kChunkBytes = BlobRefiner::kChunkBytes;
 
-// Eight 16-bit lanes (GCC and Clang vector extensions: SSE2 on x86-64, NEON on aarch64). A
-// chunk's 24 bytes are three of them; written out so, the compiler does not fall back to a
-// scalar loop for the last eight, nor widen to 32-bit lanes.
-using U8x8 = std::uint8_t __attribute__((vector_size(8)));
-using U16x8 = std::uint16_t __attribute__((vector_size(16)));
-using U8x16 = std::uint8_t __attribute__((vector_size(16)));
-// Eight bytes to eight lanes: each byte paired with a zero byte (one unpack instruction).
-U16x8 widen8(const std::uint8_t* p) {
-  static_assert(std::endian::native == std::endian::little, "byte pairs read as little-endian");
-  U8x8 v;
-  std::memcpy(&v, p, sizeof v);
-  const U8x16 pairs =
-      __builtin_shufflevector(v, U8x8{}, 0, 8, 1, 9, 2, 10, 3, 11, 4, 12, 5, 13, 6, 14, 7, 15);
-  U16x8 r;
-  std::memcpy(&r, &pairs, sizeof r);
-  return r;
-}
-U16x8 load16(const std::uint16_t* p) {
-  U16x8 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-void store16(std::uint16_t* p, U16x8 v) {
-  std::memcpy(p, &v, sizeof v);
-}
+using lanes::load16;
+using lanes::store16;
+using lanes::U16x8;
+using lanes::widen8;
 
 // Horizontal pass of the blur for the 8 pixels u0..u0+7 of row v (at least 2 px inside the
 // image): 24 sums of five taps, one per byte (at most 16 x 255: no overflow).
