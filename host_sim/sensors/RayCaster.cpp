@@ -15,11 +15,13 @@ constexpr int kMaxCells = 512;  // per grid axis
 }  // namespace
 
 void RayCaster::prepare(const b2World& world, const b2Body* skip) {
-  cands_.clear();
+  fresh_.clear();
+  movers_.clear();
   // b2World::RayCast sees the broad-phase proxies: every fixture child of the enabled bodies
   // (sensors included).
   for (const b2Body* b = world.GetBodyList(); b != nullptr; b = b->GetNext()) {
     if (b == skip || !b->IsEnabled()) continue;
+    std::vector<Candidate>& into = b->GetType() == b2_staticBody ? fresh_ : movers_;
     for (const b2Fixture* f = b->GetFixtureList(); f != nullptr; f = f->GetNext()) {
       for (std::int32_t k = 0; k < f->GetShape()->GetChildCount(); ++k) {
         // The broad phase's own box of the child (its fat box, which the tree culls by, holds
@@ -28,19 +30,24 @@ void RayCaster::prepare(const b2World& world, const b2Body* skip) {
         const float big = std::max({std::abs(box.lowerBound.x), std::abs(box.lowerBound.y),
                                     std::abs(box.upperBound.x), std::abs(box.upperBound.y)});
         const float pad = kPad + kRelPad * big;
-        cands_.push_back({f, k, 0.5F * (box.lowerBound.x + box.upperBound.x),
-                          0.5F * (box.lowerBound.y + box.upperBound.y),
-                          0.5F * (box.upperBound.x - box.lowerBound.x) + pad,
-                          0.5F * (box.upperBound.y - box.lowerBound.y) + pad});
+        into.push_back({f, k, 0.5F * (box.lowerBound.x + box.upperBound.x),
+                        0.5F * (box.lowerBound.y + box.upperBound.y),
+                        0.5F * (box.upperBound.x - box.lowerBound.x) + pad,
+                        0.5F * (box.upperBound.y - box.lowerBound.y) + pad});
       }
     }
   }
-  if (cands_.size() > kGridAbove) build_grid();
+  // Map walls do not move: the grid over them is built once, not every scan.
+  if (fresh_ != statics_) {
+    statics_.swap(fresh_);
+    if (uses_grid()) build_grid();
+  }
 }
 
 void RayCaster::build_grid() {
   double lx = std::numeric_limits<double>::infinity(), ly = lx, ux = -lx, uy = -lx;
-  for (const Candidate& c : cands_) {
+  ++grid_builds_;
+  for (const Candidate& c : statics_) {
     lx = std::min(lx, double(c.cx) - c.hx);
     ly = std::min(ly, double(c.cy) - c.hy);
     ux = std::max(ux, double(c.cx) + c.hx);
@@ -48,7 +55,7 @@ void RayCaster::build_grid() {
   }
   const double w = ux - lx, h = uy - ly;
   // About two cells per candidate, square cells.
-  cell_ = std::max(std::sqrt(w * h / (2.0 * double(cands_.size()))), 1e-3);
+  cell_ = std::max(std::sqrt(w * h / (2.0 * double(statics_.size()))), 1e-3);
   cell_ = std::max({cell_, w / kMaxCells, h / kMaxCells});
   nx_ = std::clamp(int(std::ceil(w / cell_)), 1, kMaxCells);
   ny_ = std::clamp(int(std::ceil(h / cell_)), 1, kMaxCells);
@@ -62,7 +69,7 @@ void RayCaster::build_grid() {
   };
   start_.assign(std::size_t(nx_) * std::size_t(ny_) + 1, 0);
   int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
-  for (const Candidate& c : cands_) {
+  for (const Candidate& c : statics_) {
     range(c, i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) ++start_[std::size_t(j * nx_ + i) + 1];
@@ -70,15 +77,14 @@ void RayCaster::build_grid() {
   }
   for (std::size_t k = 1; k < start_.size(); ++k) start_[k] += start_[k - 1];
   items_.resize(start_.back());
-  std::vector<std::uint32_t>& fill = stamp_;  // reused as the fill cursors, reset below
-  fill.assign(start_.begin(), start_.end() - 1);
-  for (std::size_t n = 0; n < cands_.size(); ++n) {
-    range(cands_[n], i0, i1, j0, j1);
+  cursor_.assign(start_.begin(), start_.end() - 1);
+  for (std::size_t n = 0; n < statics_.size(); ++n) {
+    range(statics_[n], i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) items_[fill[std::size_t(j * nx_ + i)]++] = std::uint32_t(n);
+      for (int i = i0; i <= i1; ++i) items_[cursor_[std::size_t(j * nx_ + i)]++] = std::uint32_t(n);
     }
   }
-  stamp_.assign(cands_.size(), 0);
+  stamp_.assign(statics_.size(), 0);
   casts_ = 0;
 }
 
@@ -114,16 +120,18 @@ inline void RayCaster::test(const Candidate& c, const Segment& s, float& best) c
 
 float RayCaster::cast(const b2Vec2& p1, const b2Vec2& p2) {
   const Segment s = segment(p1, p2);
-  if (cands_.size() > kGridAbove) return cast_grid(s);
   float best = kNoHit;
-  for (const Candidate& c : cands_) test(c, s, best);
+  for (const Candidate& c : movers_) test(c, s, best);
+  if (uses_grid()) return cast_grid(s, best);
+  for (const Candidate& c : statics_) test(c, s, best);
   return best;
 }
 
 // Walks the grid cells the segment crosses in order (Amanatides-Woo), testing each candidate
-// once, and stops at the first cell whose exit lies beyond the closest hit so far: a candidate
-// hit closer would have its hit point, and so its padded box, in a cell already walked.
-float RayCaster::cast_grid(const Segment& s) {
+// once, and stops at the first cell whose exit lies beyond the closest hit so far (`best` comes in
+// from the moving bodies): a candidate hit closer would have its hit point, and so its padded box,
+// in a cell already walked.
+float RayCaster::cast_grid(const Segment& s, float best) {
   if (++casts_ == 0) {  // wrapped: forget the old stamps
     std::fill(stamp_.begin(), stamp_.end(), 0);
     casts_ = 1;
@@ -140,7 +148,7 @@ float RayCaster::cast_grid(const Segment& s) {
     t1 = std::min(t1, tb);
     return t0 <= t1;
   };
-  if (!clip(px, dx, gx_, wx) || !clip(py, dy, gy_, wy)) return kNoHit;
+  if (!clip(px, dx, gx_, wx) || !clip(py, dy, gy_, wy)) return best;
   int i = std::clamp(int(std::floor((px + t0 * dx - gx_) / cell_)), 0, nx_ - 1);
   int j = std::clamp(int(std::floor((py + t0 * dy - gy_) / cell_)), 0, ny_ - 1);
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -149,14 +157,13 @@ float RayCaster::cast_grid(const Segment& s) {
   double ty = dy == 0 ? kInf : (gy_ + (j + (dy > 0)) * cell_ - py) / dy;
   const double tdx = dx == 0 ? kInf : cell_ / std::abs(dx);
   const double tdy = dy == 0 ? kInf : cell_ / std::abs(dy);
-  float best = kNoHit;
   for (;;) {
     const std::size_t c = std::size_t(j * nx_ + i);
     for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
       const std::uint32_t n = items_[k];
       if (stamp_[n] == casts_) continue;
       stamp_[n] = casts_;
-      test(cands_[n], s, best);
+      test(statics_[n], s, best);
     }
     const double exit = std::min(tx, ty);
     if (double(best) <= exit || exit >= t1) break;

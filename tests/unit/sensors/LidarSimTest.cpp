@@ -184,14 +184,8 @@ b2Body* random_world(b2World& w, int shapes, std::mt19937& rng) {
 }
 
 // RayCaster against b2World::RayCast on random rays, from the robot and from anywhere: every
-// fraction equal to the bit, with few fixtures (plain list) and many (grid).
-void expect_same_as_box2d(int shapes, unsigned seed) {
-  std::mt19937 rng(seed);
-  b2World w(b2Vec2(0.0F, 0.0F));
-  const b2Body* robot = random_world(w, shapes, rng);
-  RayCaster caster;
-  caster.prepare(w, robot);
-  ASSERT_EQ(caster.candidates() > RayCaster::kGridAbove, shapes > 20);
+// fraction equal to the bit.
+void expect_rays_match(b2World& w, const b2Body* robot, RayCaster& caster, std::mt19937& rng) {
   std::uniform_real_distribution<float> pos(-24.0F, 24.0F), len(0.1F, 40.0F), ang(-3.2F, 3.2F);
   int hits = 0, robot_crossings = 0;
   const int rays = 4000;
@@ -218,12 +212,58 @@ void expect_same_as_box2d(int shapes, unsigned seed) {
   EXPECT_GT(robot_crossings, 10);
 }
 
+// With few fixtures (plain list) and many (a grid over the static ones).
+void expect_same_as_box2d(int shapes, unsigned seed) {
+  std::mt19937 rng(seed);
+  b2World w(b2Vec2(0.0F, 0.0F));
+  const b2Body* robot = random_world(w, shapes, rng);
+  RayCaster caster;
+  caster.prepare(w, robot);
+  ASSERT_EQ(caster.uses_grid(), shapes > 40);
+  expect_rays_match(w, robot, caster, rng);
+}
+
 TEST(RayCasterTest, SameClosestHitAsBox2dWithFewFixtures) {
   expect_same_as_box2d(8, 7);
 }
 
 TEST(RayCasterTest, SameClosestHitAsBox2dWithManyFixtures) {
   for (unsigned seed = 1; seed <= 3; ++seed) expect_same_as_box2d(300, seed);
+}
+
+// The static grid is kept while only the moving bodies move (as the map walls stay put while a
+// lidar scans at 20 Hz), and rebuilt when a static body is moved or removed; the fractions match
+// Box2D's each time.
+TEST(RayCasterTest, TheStaticGridIsKeptUntilAStaticBodyChanges) {
+  std::mt19937 rng(4);
+  b2World w(b2Vec2(0.0F, 0.0F));
+  const b2Body* robot = random_world(w, 300, rng);
+  RayCaster caster;
+  caster.prepare(w, robot);
+  ASSERT_TRUE(caster.uses_grid());
+  EXPECT_EQ(caster.grid_builds(), 1U);
+  for (int k = 0; k < 3; ++k) {
+    w.Step(0.1F, 8, 3);  // the dynamic bodies move on
+    caster.prepare(w, robot);
+    EXPECT_EQ(caster.grid_builds(), 1U) << "step " << k;
+    expect_rays_match(w, robot, caster, rng);
+  }
+  b2Body* moved = nullptr;
+  b2Body* removed = nullptr;
+  for (b2Body* b = w.GetBodyList(); b != nullptr; b = b->GetNext()) {
+    if (b->GetType() != b2_staticBody || b->GetFixtureList() == nullptr) continue;
+    (moved == nullptr ? moved : removed) = b;
+    if (removed != nullptr) break;
+  }
+  ASSERT_NE(removed, nullptr);
+  moved->SetTransform(b2Vec2(1.0F, 12.0F), 0.7F);
+  caster.prepare(w, robot);
+  EXPECT_EQ(caster.grid_builds(), 2U);
+  expect_rays_match(w, robot, caster, rng);
+  w.DestroyBody(removed);
+  caster.prepare(w, robot);
+  EXPECT_EQ(caster.grid_builds(), 3U);
+  expect_rays_match(w, robot, caster, rng);
 }
 
 }  // namespace
