@@ -240,19 +240,23 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
   std::uint64_t er[3][kMaxWords], di[3][kMaxWords], solid[kMaxWords], band[kMaxWords],
       solid_px[kMaxWords], band_px[kMaxWords];
   int classified = 0;
-  for (int y = cy0; y <= cy1; ++y) {
-    for (int r = 0; r < 3; ++r) {
-      const int yy = y + r - 1;
-      if (yy < 0 || yy >= cell_h_) {
-        for (int k = 0; k < cs; ++k) {
-          er[r][k] = kAll;
-          di[r][k] = 0;
-        }
-      } else {
-        hpass<true>(blob_row(yy), cs, last, er[r]);
-        hpass<false>(blob_row(yy), cs, last, di[r]);
+  // Row yy's horizontal passes go to slot (yy + 3) % 3 and serve the three cell rows round it.
+  const auto pass_row = [&](int yy) {
+    const int r = (yy + 3) % 3;
+    if (yy < 0 || yy >= cell_h_) {
+      for (int k = 0; k < cs; ++k) {
+        er[r][k] = kAll;
+        di[r][k] = 0;
       }
+    } else {
+      hpass<true>(blob_row(yy), cs, last, er[r]);
+      hpass<false>(blob_row(yy), cs, last, di[r]);
     }
+  };
+  pass_row(cy0 - 1);
+  pass_row(cy0);
+  for (int y = cy0; y <= cy1; ++y) {
+    pass_row(y + 1);
     for (int k = 0; k < cs; ++k) {
       const std::uint64_t valid = k + 1 < cs ? kAll : last;
       solid[k] = er[0][k] & er[1][k] & er[2][k] & valid;
