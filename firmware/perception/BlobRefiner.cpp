@@ -35,12 +35,15 @@ void hpass(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out
   }
 }
 
-// 3x3 erosion or dilation of rows v0..v1, words k0..k1 of a full-width mask. Rows and columns
-// outside the image count as `fill` (set for erosion, as cv::erode); rows and words outside the
-// window inside the image are clear (nothing of the blob is there).
+// 5x5 erosion or dilation of rows v0..v1, words k0..k1 of a full-width mask: the thesis's two
+// 3x3 passes in one. Rows and columns outside the image count as `fill` (set for erosion, as
+// cv::erode); rows and words outside the window inside the image are clear (nothing of the blob
+// is there). The same as two 3x3 passes with those borders: a pixel two away inside the image is
+// reached through one between them, also inside, and the first pass leaves nothing outside the
+// window (a clear pixel erodes to clear; the window's margin holds what dilation grows into).
 template <bool kErode>
-void morph_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int height, int v0,
-                  int v1, int k0, int k1) {
+void morph5_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int height, int v0,
+                   int v1, int k0, int k1) {
   const std::uint64_t fill = kErode ? kAll : 0, last = valid_bits(width, s - 1);
   const std::uint64_t pad = fill & ~last;  // bits past the image's right edge
   const std::uint64_t left_out = k0 == 0 ? fill : 0, right_out = k1 == s - 1 ? fill : 0;
@@ -50,22 +53,29 @@ void morph_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int he
     std::uint64_t prev = left_out, cur = r[k0] | (k0 == s - 1 ? pad : 0);
     for (int k = k0; k <= k1; ++k) {
       const std::uint64_t next = k < k1 ? (r[k + 1] | (k + 1 == s - 1 ? pad : 0)) : right_out;
-      const std::uint64_t left = (cur << 1) | (prev >> 63);
-      const std::uint64_t right = (cur >> 1) | (next << 63);
-      h[k] = kErode ? (cur & left & right) : (cur | left | right);
+      const std::uint64_t l1 = (cur << 1) | (prev >> 63), l2 = (cur << 2) | (prev >> 62);
+      const std::uint64_t r1 = (cur >> 1) | (next << 63), r2 = (cur >> 2) | (next << 62);
+      h[k] = kErode ? (cur & l1 & l2 & r1 & r2) : (cur | l1 | l2 | r1 | r2);
       prev = cur;
       cur = next;
     }
   }
   for (int v = v0; v <= v1; ++v) {
-    const std::uint64_t* mid = tmp + std::ptrdiff_t(v) * s;
-    const std::uint64_t* up = v > v0 ? mid - s : nullptr;
-    const std::uint64_t* dn = v < v1 ? mid + s : nullptr;
-    const std::uint64_t up_fill = v == 0 ? fill : 0, dn_fill = v == height - 1 ? fill : 0;
+    // Rows v - 2 .. v + 2: inside the window, their pass; outside the image, fill; else clear.
+    const std::uint64_t* rows[5];
+    std::uint64_t outside[5];
+    for (int j = 0; j < 5; ++j) {
+      const int vv = v + j - 2;
+      rows[j] = vv >= v0 && vv <= v1 ? tmp + std::ptrdiff_t(vv) * s : nullptr;
+      outside[j] = vv < 0 || vv >= height ? fill : 0;
+    }
     std::uint64_t* out = m + std::ptrdiff_t(v) * s;
     for (int k = k0; k <= k1; ++k) {
-      const std::uint64_t a = up ? up[k] : up_fill, b = dn ? dn[k] : dn_fill;
-      const std::uint64_t r = kErode ? (a & mid[k] & b) : (a | mid[k] | b);
+      std::uint64_t r = rows[2][k];
+      for (int j : {0, 1, 3, 4}) {
+        const std::uint64_t x = rows[j] ? rows[j][k] : outside[j];
+        r = kErode ? (r & x) : (r | x);
+      }
       out[k] = k + 1 < s ? r : (r & last);
     }
   }
@@ -383,10 +393,8 @@ int BlobRefiner::measure(const std::uint8_t* bgr, const ColorThreshold& t, const
   const int v0 = d_ * cy0, v1 = d_ * cy1 + d_ - 1 < h_ ? d_ * cy1 + d_ - 1 : h_ - 1;
   std::uint64_t* m = mask_.get();
   std::uint64_t* tmp = tmp_.get();
-  morph_window<true>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
-  morph_window<true>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
-  morph_window<false>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
-  morph_window<false>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  morph5_window<true>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
+  morph5_window<false>(m, tmp, stride_, w_, h_, v0, v1, k0, k1);
   window_moments(y0, y1, v0, v1, k0, k1, out);
   return classified;
 }
