@@ -122,21 +122,28 @@ void InflationLayer::apply(const RollingGrid<std::uint8_t>& src, RollingGrid<std
     std::int16_t* w = g2 + R;  // w[lx] for window column lx
     for (int lx = 0; lx < head; ++lx) w[lx] = sq[grow[off + lx]];
     for (int lx = head; lx < nx; ++lx) w[lx] = sq[grow[lx - head]];
-    for (int lx = 0; lx < nx; ++lx) d2[lx] = w[lx];
+    // Only columns within R of one with a lethal cell within R rows can cost anything: elsewhere
+    // d2 is `far`, the table gives 0 and the cell keeps its source value. A wall across the rows
+    // (the usual case) leaves a few tens of columns to do, not the row.
+    int lo = 0, hi = nx - 1;
+    while (w[lo] >= far) ++lo;  // stops: `nearest` above is below the cap
+    while (w[hi] >= far) --hi;
+    const int a = lo - R > 0 ? lo - R : 0, b = hi + R < nx - 1 ? hi + R : nx - 1;
+    for (int lx = a; lx <= b; ++lx) d2[lx] = w[lx];
     for (int dx = 1; dx <= R; ++dx) {
       const std::int16_t dd = sq[dx];
-      const std::int16_t* left = w - dx;
-      const std::int16_t* right = w + dx;
-      min_plus_pair(d2, left, right, dd, nx);
+      min_plus_pair(d2 + a, w + a - dx, w + a + dx, dd, b - a + 1);
     }
     // Costs back to storage order, combined with the source cell.
+    if (out != s) std::copy(s, s + unx, out);
     const auto combine = [&](int sx, int lx) {
       const std::uint8_t c = table[d2[lx]];
       const std::uint8_t old = s[sx];
       out[sx] = old == cost::kUnknown ? (c > 0 ? c : old) : std::max(old, c);
     };
-    for (int sx = off; sx < nx; ++sx) combine(sx, sx - off);
-    for (int sx = 0; sx < off; ++sx) combine(sx, sx + head);
+    // Window column lx is storage column off + lx below `head`, lx - head from there on.
+    for (int lx = a; lx <= b && lx < head; ++lx) combine(off + lx, lx);
+    for (int lx = a > head ? a : head; lx <= b; ++lx) combine(lx - head, lx);
   }
 }
 
