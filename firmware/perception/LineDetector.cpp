@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 
 #include "firmware/perception/BitRuns.hpp"
@@ -140,14 +141,15 @@ void classify_span(const std::uint8_t* img, int width, const std::uint8_t* lut, 
 void pack_word(std::uint8_t* verdict, int k, std::uint64_t* line_row, std::uint64_t* end_row) {
   constexpr std::uint64_t kLow = 0x0101010101010101ULL, kPack = 0x0102040810204080ULL;
   std::uint64_t lw = 0, ew = 0;
+  static_assert(std::endian::native == std::endian::little, "byte i of a word is bits 8i..8i+7");
   std::uint8_t* v = verdict + 64 * k;
   for (int g = 0; g < 8; ++g) {
     std::uint64_t bytes = 0;
-    for (int i = 0; i < 8; ++i) bytes |= std::uint64_t{v[8 * g + i]} << (8 * i);
+    std::memcpy(&bytes, v + 8 * g, sizeof bytes);  // one load, not eight
     lw |= (((bytes & kLow) * kPack) >> 56) << (8 * g);
     ew |= ((((bytes >> 1) & kLow) * kPack) >> 56) << (8 * g);
   }
-  for (int i = 0; i < 64; ++i) v[i] = 0;
+  std::memset(v, 0, 64);
   line_row[k] = lw;
   end_row[k] = ew;
 }
