@@ -124,6 +124,10 @@ bool RunLabeler::label(const BitImage& m) {
     const std::uint64_t* r = m.row(y);
     const int begin = n_runs_;
     row_start_[y] = begin;
+    if (row_empty(r, m.stride)) {  // most rows of a tape mask, every row of an unseen end mark
+      prev_begin = prev_end = begin;
+      continue;
+    }
     // Stores a run; false when the run storage is full (the frame is then reported saturated).
     const auto add = [&](int x0, int x1) {
       if (n_runs_ == max_runs_) return false;
