@@ -1,5 +1,6 @@
 #include "firmware/perception/ObstacleField.hpp"
 
+#include <bit>
 #include <cmath>
 
 namespace carril::fw {
@@ -7,7 +8,21 @@ namespace carril::fw {
 void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
-  for (int i = 0; i < scan.count && i < hal::kMaxScanBeams; ++i) {
+  const int n = scan.count < hal::kMaxScanBeams ? scan.count : hal::kMaxScanBeams;
+  // Compared by their bits: no floating-point comparison of what may be a NaN.
+  const auto min_bits = std::bit_cast<std::uint32_t>(scan.angle_min_rad);
+  const auto inc_bits = std::bit_cast<std::uint32_t>(scan.angle_increment_rad);
+  if (n != table_n_ || min_bits != table_min_bits_ || inc_bits != table_inc_bits_) {
+    for (int i = 0; i < n; ++i) {
+      const double a = double(scan.angle_min_rad) + i * double(scan.angle_increment_rad);
+      beam_cos_[std::size_t(i)] = std::cos(a);
+      beam_sin_[std::size_t(i)] = std::sin(a);
+    }
+    table_n_ = n;
+    table_min_bits_ = min_bits;
+    table_inc_bits_ = inc_bits;
+  }
+  for (int i = 0; i < n; ++i) {
     float r = scan.ranges_m[std::size_t(i)];
     // -inf is something closer than the scanner can measure (REP 117): an obstacle at range_min.
     if (std::isinf(r) && r < 0.0F) r = scan.range_min_m > 0.0F ? scan.range_min_m : 0.01F;
@@ -16,8 +31,8 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
       ++invalid_beams_;
       continue;
     }
-    const double a = double(scan.angle_min_rad) + i * double(scan.angle_increment_rad);
-    const double sx = double(r) * std::cos(a), sy = double(r) * std::sin(a);
+    const double sx = double(r) * beam_cos_[std::size_t(i)];
+    const double sy = double(r) * beam_sin_[std::size_t(i)];
     const Vec2 robot(mx_ + c * sx - s * sy, my_ + s * sx + c * sy);
     pts_.push_back(to_world(odom, robot));
   }

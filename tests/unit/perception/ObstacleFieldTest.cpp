@@ -84,5 +84,35 @@ TEST(ObstacleFieldTest, DistancesAreFromTheFootprintNotTheSensor) {
   EXPECT_NEAR(f.clearance_m(Pose2{}), 1.0, 1e-3);
 }
 
+// The beams' directions are kept between scans of the same geometry; a scan with another start
+// angle, increment or count gets its own (as a different scanner, or a reconfigured one, would).
+TEST(ObstacleFieldTest, AScanOfAnotherGeometryIsNotSeenThroughTheLastOnesDirections) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  auto s = scan_of({2.0F, 2.0F, 2.0F, 2.0F, 2.0F, 2.0F, 2.0F, 2.0F, 2.0F});
+  const auto expect_points = [&](const char* what) {
+    ASSERT_EQ(int(f.points().size()), int(s->count)) << what;
+    for (int i = 0; i < s->count; ++i) {
+      const double a = double(s->angle_min_rad) + i * double(s->angle_increment_rad);
+      EXPECT_NEAR(f.points()[std::size_t(i)].x(), 2.0 * std::cos(a), 1e-12) << what << " " << i;
+      EXPECT_NEAR(f.points()[std::size_t(i)].y(), 2.0 * std::sin(a), 1e-12) << what << " " << i;
+    }
+  };
+  f.update(*s, Pose2{});
+  expect_points("first");
+  s->angle_min_rad = float(-20.0 * kPi / 180.0);
+  f.update(*s, Pose2{});
+  expect_points("start angle changed");
+  s->angle_increment_rad = float(3.0 * kPi / 180.0);
+  f.update(*s, Pose2{});
+  expect_points("increment changed");
+  s->count = 5;
+  f.update(*s, Pose2{});
+  expect_points("fewer beams");
+  s->count = 9;
+  s->ranges_m[8] = 2.0F;
+  f.update(*s, Pose2{});
+  expect_points("more beams again");
+}
+
 }  // namespace
 }  // namespace carril::fw
