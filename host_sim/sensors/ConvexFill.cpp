@@ -21,7 +21,7 @@ struct Canvas {
   int w, h;
   std::size_t step;
   std::uint8_t bgr[3];
-  std::uint8_t pat[24];  // eight pixels of the colour, for long spans
+  std::uint8_t pat[48];  // sixteen pixels of the colour, for spans
 };
 
 // Two's complement wrap, as the hardware gives it: OpenCV steps edge x by repeated int64
@@ -103,10 +103,16 @@ void outline_edge(const Canvas& c, i64 x1, i64 y1, i64 x2, i64 y2) {
     }
     const i64 step = (dy << kXyShift) / (ax | 1);
     put(c, int((x2 + kXyHalf) >> kXyShift), int((y2 + kXyHalf) >> kXyShift));
-    int x = int((x1 + kXyHalf) >> kXyShift);
-    i64 y = y1 + kXyHalf;
-    for (int k = int((x2 - x1) >> kXyShift); k >= 0; --k, ++x, y += step) {
-      put(c, x, int(y >> kXyShift));
+    // Points i = 0..count-1 at column x0 + i; those left or right of the image set nothing, so
+    // the loop runs over the others only, starting y as far along as OpenCV's steps take it.
+    const i64 x0 = (x1 + kXyHalf) >> kXyShift, count = ((x2 - x1) >> kXyShift) + 1;
+    const i64 i0 = std::max<i64>(0, -x0), i1 = std::min<i64>(count, c.w - x0);
+    if (i0 >= i1) return;
+    i64 y = y1 + kXyHalf + i0 * step;
+    std::uint8_t* p = c.data + (x0 + i0) * 3;
+    for (i64 i = i0; i < i1; ++i, p += 3, y += step) {
+      const int row = int(y >> kXyShift);
+      if (unsigned(row) < unsigned(c.h)) std::memcpy(p + std::size_t(row) * c.step, c.bgr, 3);
     }
   } else {
     if (dy < 0) {
@@ -116,25 +122,40 @@ void outline_edge(const Canvas& c, i64 x1, i64 y1, i64 x2, i64 y2) {
     }
     const i64 step = (dx << kXyShift) / (ay | 1);
     put(c, int((x2 + kXyHalf) >> kXyShift), int((y2 + kXyHalf) >> kXyShift));
-    i64 x = x1 + kXyHalf;
-    int y = int((y1 + kXyHalf) >> kXyShift);
-    for (int k = int((y2 - y1) >> kXyShift); k >= 0; --k, ++y, x += step) {
-      put(c, int(x >> kXyShift), y);
+    const i64 y0 = (y1 + kXyHalf) >> kXyShift, count = ((y2 - y1) >> kXyShift) + 1;
+    const i64 i0 = std::max<i64>(0, -y0), i1 = std::min<i64>(count, c.h - y0);
+    if (i0 >= i1) return;
+    i64 x = x1 + kXyHalf + i0 * step;
+    std::uint8_t* p = c.data + std::size_t(y0 + i0) * c.step;
+    for (i64 i = i0; i < i1; ++i, p += c.step, x += step) {
+      const int col = int(x >> kXyShift);
+      if (unsigned(col) < unsigned(c.w)) std::memcpy(p + std::size_t(col) * 3, c.bgr, 3);
     }
   }
 }
 
-// Pixels xl..xr (inclusive, 0 <= xl <= xr < width) of `row`.
+// Pixels xl..xr (inclusive, 0 <= xl <= xr < width) of `row`. A store of the pattern at any
+// multiple of 3 bytes into the span keeps the colour's phase, so each span is two to a few
+// unaligned block stores, the last overlapping the one before, rather than a loop of pixels.
 inline void span(const Canvas& c, std::uint8_t* row, int xl, int xr) {
   std::uint8_t* p = row + std::size_t(xl) * 3;
-  std::uint8_t* const last = row + std::size_t(xr) * 3;
-  for (; p + 24 <= last; p += 24) std::memcpy(p, c.pat, 24);
-  // 4-byte stores: each one's fourth byte is the next pixel's blue, rewritten by the next store;
-  // the last pixel gets exactly its 3 bytes.
-  for (; p < last; p += 3) std::memcpy(p, c.pat, 4);
-  p[0] = c.bgr[0];
-  p[1] = c.bgr[1];
-  p[2] = c.bgr[2];
+  const std::size_t len = std::size_t(xr - xl + 1) * 3;
+  std::uint8_t* const end = p + len;
+  if (len >= 48) {
+    for (; p + 48 <= end; p += 48) std::memcpy(p, c.pat, 48);
+    std::memcpy(end - 48, c.pat, 48);
+  } else if (len >= 24) {
+    std::memcpy(p, c.pat, 24);
+    std::memcpy(end - 24, c.pat, 24);
+  } else if (len >= 12) {
+    std::memcpy(p, c.pat, 12);
+    std::memcpy(end - 12, c.pat, 12);
+  } else if (len >= 6) {
+    std::memcpy(p, c.pat, 6);
+    std::memcpy(end - 6, c.pat, 6);
+  } else {
+    std::memcpy(p, c.pat, 3);
+  }
 }
 
 }  // namespace
@@ -160,7 +181,7 @@ void fill_convex_poly(std::uint8_t* bgr, int width, int height, const FixedPt* v
     return;
   }
   Canvas c{bgr, width, height, std::size_t(width) * 3, {b, g, r}, {}};
-  for (int k = 0; k < 24; k += 3) {
+  for (int k = 0; k < 48; k += 3) {
     c.pat[k] = b;
     c.pat[k + 1] = g;
     c.pat[k + 2] = r;
@@ -220,14 +241,29 @@ void fill_convex_poly(std::uint8_t* bgr, int width, int height, const FixedPt* v
       y = next;
       continue;
     }
-    const int l = e[0].x > e[1].x ? 1 : 0;
-    int x1 = int((e[l].x + kXyHalf) >> kXyShift), x2 = int((e[1 - l].x + kXyHalf) >> kXyShift);
-    if (x2 >= 0 && x1 < width) {
-      span(c, bgr + std::size_t(y) * c.step, std::max(x1, 0), std::min(x2, width - 1));
+    // The rows up to where an edge ends (or the last row): no edge changes, only spans.
+    const int stop = std::min({e[0].ye, e[1].ye, ylast + 1});
+    i64 xa = e[0].x, xb = e[1].x;
+    const i64 da = e[0].dx, db = e[1].dx;
+    std::uint8_t* row = bgr + std::size_t(y) * c.step;
+    // Both edges round into the image on the first and last row, so on every row between (x is
+    // linear in the row): no clamping. The common case, inside the image.
+    const i64 lo = -kXyHalf, hi = (i64(width) << kXyShift) - kXyHalf - 1;
+    const i64 xa_end = xa + da * (stop - 1 - y), xb_end = xb + db * (stop - 1 - y);
+    if (std::min({xa, xb, xa_end, xb_end}) >= lo && std::max({xa, xb, xa_end, xb_end}) <= hi) {
+      for (; y < stop; ++y, row += c.step, xa += da, xb += db) {
+        span(c, row, int((std::min(xa, xb) + kXyHalf) >> kXyShift),
+             int((std::max(xa, xb) + kXyHalf) >> kXyShift));
+      }
     }
-    e[0].x += e[0].dx;
-    e[1].x += e[1].dx;
-    if (++y > ylast) break;
+    for (; y < stop; ++y, row += c.step, xa += da, xb += db) {
+      const int x1 = int((std::min(xa, xb) + kXyHalf) >> kXyShift);
+      const int x2 = int((std::max(xa, xb) + kXyHalf) >> kXyShift);
+      if (x2 >= 0 && x1 < width) span(c, row, std::max(x1, 0), std::min(x2, width - 1));
+    }
+    e[0].x = xa;
+    e[1].x = xb;
+    if (y > ylast) break;
   }
 }
 
