@@ -30,7 +30,7 @@ enum class Kind {
   Hull,       // integer points' convex hull, a subset of its vertices
   Same,       // all vertices equal
   Collinear,  // all on one line, in order or not
-  Extreme,    // vertices out to the renderer's clamp (1e5 px), where OpenCV's clipping overflows
+  Extreme,  // out to the renderer's clamp (1e5 px): an int64 clip would overflow (4.6 uses double)
   Count
 };
 
@@ -85,7 +85,9 @@ struct Gen {
 
   void polygon(Kind kind, std::vector<FixedPt>& out) {
     out.clear();
-    const int n = iuni(3, 8);
+    // 3 to 8 vertices; one polygon in 20 up to 50, as the renderer's discs (48 vertices, one
+    // more after the near-plane cut).
+    const int n = iuni(0, 19) == 0 ? iuni(9, 50) : iuni(3, 8);
     const double cx = uni(-4, w + 4), cy = uni(-4, h + 4);
     switch (kind) {
       case Kind::Tiny:
