@@ -79,6 +79,18 @@ bool clip_line(i64 right, i64 bottom, i64& x1, i64& y1, i64& x2, i64& y2) {
   return (c1 | c2) == 0;
 }
 
+// The colour as two scalars the compiler can keep in registers across a loop of byte stores
+// (stores through uint8_t* may alias the Canvas, so its bytes would be reloaded every pixel).
+struct Colour3 {
+  std::uint16_t bg;
+  std::uint8_t r;
+  explicit Colour3(const Canvas& c) : r(c.bgr[2]) { std::memcpy(&bg, c.bgr, 2); }
+  void store(std::uint8_t* p) const {
+    std::memcpy(p, &bg, 2);
+    p[2] = r;
+  }
+};
+
 inline void put(const Canvas& c, int x, int y) {
   if (unsigned(x) < unsigned(c.w) && unsigned(y) < unsigned(c.h)) {
     std::uint8_t* p = c.data + std::size_t(y) * c.step + std::size_t(x) * 3;
@@ -108,11 +120,12 @@ void outline_edge(const Canvas& c, i64 x1, i64 y1, i64 x2, i64 y2) {
     const i64 x0 = (x1 + kXyHalf) >> kXyShift, count = ((x2 - x1) >> kXyShift) + 1;
     const i64 i0 = std::max<i64>(0, -x0), i1 = std::min<i64>(count, c.w - x0);
     if (i0 >= i1) return;
+    const Colour3 colour(c);
     i64 y = y1 + kXyHalf + i0 * step;
     std::uint8_t* p = c.data + (x0 + i0) * 3;
     for (i64 i = i0; i < i1; ++i, p += 3, y += step) {
       const int row = int(y >> kXyShift);
-      if (unsigned(row) < unsigned(c.h)) std::memcpy(p + std::size_t(row) * c.step, c.bgr, 3);
+      if (unsigned(row) < unsigned(c.h)) colour.store(p + std::size_t(row) * c.step);
     }
   } else {
     if (dy < 0) {
@@ -125,11 +138,12 @@ void outline_edge(const Canvas& c, i64 x1, i64 y1, i64 x2, i64 y2) {
     const i64 y0 = (y1 + kXyHalf) >> kXyShift, count = ((y2 - y1) >> kXyShift) + 1;
     const i64 i0 = std::max<i64>(0, -y0), i1 = std::min<i64>(count, c.h - y0);
     if (i0 >= i1) return;
+    const Colour3 colour(c);
     i64 x = x1 + kXyHalf + i0 * step;
     std::uint8_t* p = c.data + std::size_t(y0 + i0) * c.step;
     for (i64 i = i0; i < i1; ++i, p += c.step, x += step) {
       const int col = int(x >> kXyShift);
-      if (unsigned(col) < unsigned(c.w)) std::memcpy(p + std::size_t(col) * 3, c.bgr, 3);
+      if (unsigned(col) < unsigned(c.w)) colour.store(p + std::size_t(col) * 3);
     }
   }
 }
