@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "host_sim/sensors/ConvexFill.hpp"
 #include "host_sim/sensors/SaturatingAdd.hpp"
 #include "host_sim/sensors/TapeWear.hpp"
 
@@ -13,7 +14,6 @@ namespace carril::sim {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-constexpr int kShift = 4;              // sub-pixel bits for cv::fillConvexPoly
 constexpr double kNearZ = 0.02;        // clip polygons this close to the camera plane [m]
 constexpr double kSpeckleCell = 0.25;  // floor texture: one speckle per cell this size [m]
 constexpr double kTextureRange = 6.0;  // no texture beyond this from the camera (sub-pixel) [m]
@@ -414,14 +414,22 @@ void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& 
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);
     // Clamp far outside values so fixed-point coordinates cannot overflow.
-    px_.emplace_back(int(std::lround(std::clamp(u, -1e5, 1e5) * (1 << kShift))),
-                     int(std::lround(std::clamp(v, -1e5, 1e5) * (1 << kShift))));
+    px_.push_back({int(std::lround(std::clamp(u, -1e5, 1e5) * (1 << kFillShift))),
+                   int(std::lround(std::clamp(v, -1e5, 1e5) * (1 << kFillShift)))});
   }
   const bool any_inside = umax >= -1 && umin <= cs.width && vmax >= -1 && vmin <= cs.height;
   if (!any_inside) return;
   const Rgb c = effects_.expose(color);
-  cv::fillConvexPoly(img, px_.data(), int(px_.size()), cv::Scalar(c.b, c.g, c.r), cv::LINE_8,
-                     kShift);
+  if (reference_) {
+    // The tests' reference: OpenCV itself, which the project's fill must equal byte for byte.
+    cv_px_.clear();
+    for (const FixedPt& p : px_) cv_px_.emplace_back(p.x, p.y);
+    cv::fillConvexPoly(img, cv_px_.data(), int(cv_px_.size()), cv::Scalar(c.b, c.g, c.r),
+                       cv::LINE_8, kFillShift);
+  } else {
+    // The frame's buffer, so continuous; OpenCV's bytes without its per-call overhead.
+    fill_convex_poly(img.data, img.cols, img.rows, px_.data(), int(px_.size()), c.b, c.g, c.r);
+  }
 }
 
 }  // namespace carril::sim

@@ -20,6 +20,7 @@
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
 #include "host_sim/sensors/CameraEffects.hpp"
+#include "host_sim/sensors/ConvexFill.hpp"
 #include "loader/FirmwareConfigBuilder.hpp"
 
 namespace carril::sim {
@@ -76,7 +77,8 @@ class CameraRenderer {
   std::vector<Vec2> texture_region_, region_world_;
   bool reference_ = false;
   std::vector<fw::Vec3> in_, out_;
-  std::vector<cv::Point> px_;
+  std::vector<FixedPt> px_;       // the projected polygon [1/16 px]
+  std::vector<cv::Point> cv_px_;  // its copy for cv::fillConvexPoly (reference path)
   std::vector<Vec2> speckle_;
   double noise_std_;
   // Precomputed N(0, std) samples, rounded: each as max(v, 0) and max(-v, 0).
