@@ -84,23 +84,15 @@ std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::ui
   return lut[color_lut::index(sum[0] >> kShift, sum[1] >> kShift, sum[2] >> kShift)];
 }
 
-// block_verdict, at d = 2 with the four pixels' sums in 16-bit lanes: the two rows' first eight
-// bytes each (b g r b g r . .), then lanes 0-2 plus lanes 3-5. The same sums, so the same verdict;
-// about half the instructions of the scalar loop over a frame's samples. A block whose eight
-// bytes would run past its row (the last column) takes the scalar loop.
-template <int D>
-std::uint8_t sample_verdict(const std::uint8_t* img, int row_bytes, const std::uint8_t* lut, int x,
-                            int by) {
-  if constexpr (D == 2) {
-    if (6 * x + 8 <= row_bytes) {
-      const std::uint8_t* p = img + std::size_t(by) * 2 * std::size_t(row_bytes) + 6 * x;
-      const lanes::U16x8 s = lanes::widen8(p) + lanes::widen8(p + row_bytes);
-      const lanes::U16x8 t =
-          (s + __builtin_shufflevector(s, lanes::U16x8{}, 3, 4, 5, 6, 7, 8, 8, 8)) >> 4;
-      return lut[color_lut::index(t[0], t[1], t[2])];
-    }
-  }
-  return block_verdict<D>(img, row_bytes, lut, x, by);
+// block_verdict at d = 2 with the four pixels' sums in 16-bit lanes: the two rows' first eight
+// bytes each (b g r b g r . .), then lanes 0-2 plus lanes 3-5. The same sums, so the same verdict,
+// in about half the instructions. `p` is the block's first byte; its eight bytes must lie inside
+// the row (the caller takes block_verdict for a last column that would run past it).
+std::uint8_t block_verdict_lanes(const std::uint8_t* p, int row_bytes, const std::uint8_t* lut) {
+  const lanes::U16x8 s = lanes::widen8(p) + lanes::widen8(p + row_bytes);
+  const lanes::U16x8 t =
+      (s + __builtin_shufflevector(s, lanes::U16x8{}, 3, 4, 5, 6, 7, 8, 8, 8)) >> 4;
+  return lut[color_lut::index(t[0], t[1], t[2])];
 }
 
 // Verdicts of block columns c0..c1 of block row `by` into verdict[c0..c1].
@@ -182,14 +174,24 @@ long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut
   long blocks = 0;
   for (int by = 0; by < h; by = next_sample(by, h)) {
     const int y0 = by - reach > 0 ? by - reach : 0, y1 = by + reach < h - 1 ? by + reach : h - 1;
-    const auto sample = [&](int x) {
-      if (sample_verdict<D>(img, row_bytes, lut, x, by) == 0) return;
+    const auto mark = [&](int x) {
       const int a = x - reach > 0 ? x - reach : 0, b = x + reach < w - 1 ? x + reach : w - 1;
       for (int y = y0; y <= y1; ++y) bits::set_range(need.row(y), a, b);
     };
-    // The columns next_sample() gives: every kSampleEvery-th below the last, then the last.
-    for (int x = 0; x < w - 1; x += kSampleEvery) sample(x);
-    sample(w - 1);
+    // The columns next_sample() gives: every kSampleEvery-th below the last, then the last. At
+    // d = 2, the lanes up to the last block whose eight bytes fit in the row.
+    int x = 0;
+    if constexpr (D == 2) {
+      const std::uint8_t* row = img + std::size_t(by) * 2 * std::size_t(row_bytes);
+      const int x_lanes = (row_bytes - 8) / 6;  // 6x + 8 <= row_bytes
+      for (; x < w - 1 && x <= x_lanes; x += kSampleEvery) {
+        if (block_verdict_lanes(row + 6 * x, row_bytes, lut) != 0) mark(x);
+      }
+    }
+    for (; x < w - 1; x += kSampleEvery) {
+      if (block_verdict<D>(img, row_bytes, lut, x, by) != 0) mark(x);
+    }
+    if (block_verdict<D>(img, row_bytes, lut, w - 1, by) != 0) mark(w - 1);
     blocks += (w - 2 + kSampleEvery) / kSampleEvery + 1;
   }
   for (int by = 0; by < h; ++by) {
