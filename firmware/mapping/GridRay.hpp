@@ -126,7 +126,8 @@ void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include
   int k = 0;
   for (;;) {
     const int stop = std::min({steps, wrap_a, wrap_b});
-    for (; k < stop; ++k) {
+    // A count down to zero: one instruction fewer per cell than comparing k with stop.
+    for (int n = stop - k; n > 0; --n) {
       visit(std::size_t(i));
       i += stride_a;
       err -= db;
@@ -135,6 +136,7 @@ void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include
         i += stride_b;
       }
     }
+    k = stop;
     if (k == steps) return;
     // k is a wrap step (maybe both): the linear index ran one row or column off the storage.
     if (k == wrap_a) {
