@@ -112,12 +112,12 @@ void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include
   // The visit at major step k has taken m(k) minor steps, the unique m with
   // err(k) = da/2 - k*db + m*da in [0, da). The minor coordinate wraps on its steps_to_wrap-th
   // (M-th) minor step, taken in the step to the first k with m(k) >= M, that is
-  // k*db > da/2 + (M-1)*da.
+  // k*db > da/2 + (M-1)*da. The line takes db minor steps in all, so there is no minor wrap
+  // (and no division, the slow part of a short ray) unless M <= db.
   int wrap_a = steps_to_wrap(pa, x_major ? sx : sy, na);
   int wrap_b = steps;  // none within the walk
-  if (db > 0) {
-    const std::int64_t m = steps_to_wrap(pb, x_major ? sy : sx, nb);
-    const std::int64_t k = (std::int64_t(da / 2) + (m - 1) * da) / db + 1;
+  if (const int m = steps_to_wrap(pb, x_major ? sy : sx, nb); m <= db) {
+    const std::int64_t k = (std::int64_t(da / 2) + std::int64_t(m - 1) * da) / db + 1;
     if (k < steps) wrap_b = int(k);
   }
   const std::ptrdiff_t fix_a = x_major ? unwrap_x : unwrap_y, fix_b = x_major ? unwrap_y : unwrap_x;
