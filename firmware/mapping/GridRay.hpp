@@ -83,21 +83,18 @@ inline int steps_to_wrap(int p, int s, int n) {
   return s > 0 ? n - p : p + 1;
 }
 
-// Calls visit(storage_index) for the cells on the Bresenham line from global cell (cx0, cy0) to
-// (cx1, cy1) of a grid of nx x ny cells, the start cell included, the end cell only when
-// include_end. Both cells must lie inside the window (the caller clips); then every cell visited
-// does too, and each is visited once.
+// trace_line (below) from the start cell's storage column and row (cx0 mod nx, cy0 mod ny), for
+// callers that know them without the two divisions, along (dx, dy) = (cx1 - cx0, cy1 - cy0).
 //
 // The line crosses at most one storage column wrap and one row wrap (its cells lie in a window
 // of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
 // most three pieces with a linear storage index (+major stride every step, +minor stride when
 // the error overflows) and no wrap test per cell: the walk is the hot loop of lidar clearing.
 template <typename Visit>
-void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include_end,
-                Visit&& visit) {
-  const int adx = std::abs(cx1 - cx0), ady = std::abs(cy1 - cy0);
-  const int sx = cx1 >= cx0 ? 1 : -1, sy = cy1 >= cy0 ? 1 : -1;
-  const int col = wrap(cx0, nx), row = wrap(cy0, ny);
+void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool include_end,
+                     Visit&& visit) {
+  const int adx = std::abs(dx), ady = std::abs(dy);
+  const int sx = dx >= 0 ? 1 : -1, sy = dy >= 0 ? 1 : -1;
   // Major axis a, minor axis b: step a every time, b when the error crosses half a cell.
   const bool x_major = adx >= ady;
   const int da = x_major ? adx : ady, db = x_major ? ady : adx;
@@ -148,6 +145,17 @@ void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include
       wrap_b = steps;
     }
   }
+}
+
+// Calls visit(storage_index) for the cells on the Bresenham line from global cell (cx0, cy0) to
+// (cx1, cy1) of a grid of nx x ny cells, the start cell included, the end cell only when
+// include_end. Both cells must lie inside the window (the caller clips); then every cell visited
+// does too, and each is visited once.
+template <typename Visit>
+void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include_end,
+                Visit&& visit) {
+  trace_line_from(wrap(cx0, nx), wrap(cy0, ny), cx1 - cx0, cy1 - cy0, nx, ny, include_end,
+                  static_cast<Visit&&>(visit));
 }
 
 }  // namespace carril::fw::grid
