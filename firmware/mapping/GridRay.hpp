@@ -2,9 +2,12 @@
 // Integer ray tracing over a RollingGrid's storage, and the clipping that keeps rays inside the
 // window. Rays walk global cell indices with Bresenham (one cell per step along the major axis,
 // as Nav2's raytraceLine): fewer cells than an exact supercover walk, so a beam grazing a wall
-// does not clear the wall's corner cells. Steps update the storage index with a compare, never a
-// division, so a 120-cell ray costs about as much as 120 array writes.
+// does not clear the wall's corner cells. Steps add a stride to a linear storage index, with the
+// storage wraps handled between pieces of the ray, so a 120-cell ray costs about as much as 120
+// array writes.
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 
 #include "firmware/mapping/RollingGrid.hpp"
@@ -74,6 +77,76 @@ inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double 
   return true;
 }
 
+// How many steps of s (+1 or -1) take a storage coordinate from p in [0, n) out of [0, n): the
+// step on which it wraps.
+inline int steps_to_wrap(int p, int s, int n) {
+  return s > 0 ? n - p : p + 1;
+}
+
+// trace_line (below) from the start cell's storage column and row (cx0 mod nx, cy0 mod ny), for
+// callers that know them without the two divisions, along (dx, dy) = (cx1 - cx0, cy1 - cy0).
+//
+// The line crosses at most one storage column wrap and one row wrap (its cells lie in a window
+// of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
+// most three pieces with a linear storage index (+major stride every step, +minor stride when
+// the error overflows) and no wrap test per cell: the walk is the hot loop of lidar clearing.
+template <typename Visit>
+void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool include_end,
+                     Visit&& visit) {
+  const int adx = std::abs(dx), ady = std::abs(dy);
+  const int sx = dx >= 0 ? 1 : -1, sy = dy >= 0 ? 1 : -1;
+  // Major axis a, minor axis b: step a every time, b when the error crosses half a cell.
+  const bool x_major = adx >= ady;
+  const int da = x_major ? adx : ady, db = x_major ? ady : adx;
+  const int steps = include_end ? da + 1 : da;
+  if (steps <= 0) return;
+  const std::ptrdiff_t sxs = sx, sys = std::ptrdiff_t(sy) * nx;
+  const std::ptrdiff_t stride_a = x_major ? sxs : sys, stride_b = x_major ? sys : sxs;
+  // What to add to the index when a coordinate wraps: one row (or the whole grid) backwards.
+  const std::ptrdiff_t unwrap_x = -sxs * nx, unwrap_y = -sys * ny;
+  const int pa = x_major ? col : row, pb = x_major ? row : col;
+  const int na = x_major ? nx : ny, nb = x_major ? ny : nx;
+  // The visit at major step k has taken m(k) minor steps, the unique m with
+  // err(k) = da/2 - k*db + m*da in [0, da). The minor coordinate wraps on its steps_to_wrap-th
+  // (M-th) minor step, taken in the step to the first k with m(k) >= M, that is
+  // k*db > da/2 + (M-1)*da. The line takes db minor steps in all, so there is no minor wrap
+  // (and no division, the slow part of a short ray) unless M <= db.
+  int wrap_a = steps_to_wrap(pa, x_major ? sx : sy, na);
+  int wrap_b = steps;  // none within the walk
+  if (const int m = steps_to_wrap(pb, x_major ? sy : sx, nb); m <= db) {
+    const std::int64_t k = (std::int64_t(da / 2) + std::int64_t(m - 1) * da) / db + 1;
+    if (k < steps) wrap_b = int(k);
+  }
+  const std::ptrdiff_t fix_a = x_major ? unwrap_x : unwrap_y, fix_b = x_major ? unwrap_y : unwrap_x;
+  std::ptrdiff_t i = std::ptrdiff_t(row) * nx + col;
+  int err = da / 2;
+  int k = 0;
+  for (;;) {
+    const int stop = std::min({steps, wrap_a, wrap_b});
+    // A count down to zero: one instruction fewer per cell than comparing k with stop.
+    for (int n = stop - k; n > 0; --n) {
+      visit(std::size_t(i));
+      i += stride_a;
+      err -= db;
+      if (err < 0) {
+        err += da;
+        i += stride_b;
+      }
+    }
+    k = stop;
+    if (k == steps) return;
+    // k is a wrap step (maybe both): the linear index ran one row or column off the storage.
+    if (k == wrap_a) {
+      i += fix_a;
+      wrap_a = steps;
+    }
+    if (k == wrap_b) {
+      i += fix_b;
+      wrap_b = steps;
+    }
+  }
+}
+
 // Calls visit(storage_index) for the cells on the Bresenham line from global cell (cx0, cy0) to
 // (cx1, cy1) of a grid of nx x ny cells, the start cell included, the end cell only when
 // include_end. Both cells must lie inside the window (the caller clips); then every cell visited
@@ -81,40 +154,8 @@ inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double 
 template <typename Visit>
 void trace_line(int cx0, int cy0, int cx1, int cy1, int nx, int ny, bool include_end,
                 Visit&& visit) {
-  const int adx = std::abs(cx1 - cx0), ady = std::abs(cy1 - cy0);
-  const int sx = cx1 >= cx0 ? 1 : -1, sy = cy1 >= cy0 ? 1 : -1;
-  int col = wrap(cx0, nx), row = wrap(cy0, ny);
-  // Major axis a, minor axis b: step a every time, b when the error crosses half a cell.
-  const bool x_major = adx >= ady;
-  const int da = x_major ? adx : ady, db = x_major ? ady : adx;
-  int steps = include_end ? da + 1 : da;
-  int err = da / 2;
-  while (steps-- > 0) {
-    visit(std::size_t(row) * std::size_t(nx) + std::size_t(col));
-    // Advance the major axis, then the minor when its error overflows.
-    if (x_major) {
-      col += sx;
-      if (col == nx) col = 0;
-      if (col < 0) col = nx - 1;
-    } else {
-      row += sy;
-      if (row == ny) row = 0;
-      if (row < 0) row = ny - 1;
-    }
-    err -= db;
-    if (err < 0) {
-      err += da;
-      if (x_major) {
-        row += sy;
-        if (row == ny) row = 0;
-        if (row < 0) row = ny - 1;
-      } else {
-        col += sx;
-        if (col == nx) col = 0;
-        if (col < 0) col = nx - 1;
-      }
-    }
-  }
+  trace_line_from(wrap(cx0, nx), wrap(cy0, ny), cx1 - cx0, cy1 - cy0, nx, ny, include_end,
+                  static_cast<Visit&&>(visit));
 }
 
 }  // namespace carril::fw::grid

@@ -56,7 +56,10 @@ void ObstacleLayer::clear() {
 
 // Clears the cells from (x0, y0) to (x1, y1) [m], without the end cell when keep_end (it holds
 // the return that ended the beam). Counts at most one miss per lethal cell and scan.
-void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool keep_end) {
+// (col_off, row_off) is the storage position of the window's first cell, found once per scan
+// rather than with two divisions per ray.
+void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool keep_end,
+                              int col_off, int row_off) {
   const double res = cost_.resolution();
   const int nx = cost_.nx(), ny = cost_.ny();
   // The window box, shrunk by a hair so that floor() of a clipped point stays inside.
@@ -75,8 +78,16 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   std::uint8_t* cost = grid::storage_base(cost_);
   CellState* state = grid::storage_base(state_);
   const std::uint8_t scan = scan_counter_;
-  grid::trace_line(cx0, cy0, cx1, cy1, nx, ny, end_clipped || !keep_end, [&](std::size_t i) {
-    if (cost[i] != cost::kLethal) {
+  // The start cell lies in the window, so its storage column is col_off + (cx0 - lo_x) less one
+  // wrap at most (and the same for the row).
+  int col0 = col_off + (cx0 - lo_x), row0 = row_off + (cy0 - lo_y);
+  if (col0 >= nx) col0 -= nx;
+  if (row0 >= ny) row0 -= ny;
+  const bool include_end = end_clipped || !keep_end;
+  grid::trace_line_from(col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end, [&](std::size_t i) {
+    // Lethal cells are rare on a ray; keeping their branch out of the loop's straight path
+    // makes the common cell a load, a compare and a store.
+    if (cost[i] != cost::kLethal) [[likely]] {
       cost[i] = cost::kFree;
       return;
     }
@@ -109,6 +120,8 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   // farther than the sensor could see.
   const double free_to = std::min(cfg_.raytrace_max_range_m, range_max);
   const double rmin = cfg_.raytrace_min_range_m;
+  const int col_off = grid::wrap(cost_.origin_cx(), cost_.nx());
+  const int row_off = grid::wrap(cost_.origin_cy(), cost_.ny());
   int n_hits = 0;
   for (int b = 0; b < n; ++b) {
     const float rf = scan.ranges_m[std::size_t(b)];
@@ -128,7 +141,7 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
     const bool keep_end = is_return && r <= cfg_.raytrace_max_range_m;
     if (end > rmin) {
       clear_ray(sensor_pose.x + rmin * c, sensor_pose.y + rmin * s, sensor_pose.x + end * c,
-                sensor_pose.y + end * s, keep_end);
+                sensor_pose.y + end * s, keep_end, col_off, row_off);
     }
     if (is_return && r <= cfg_.obstacle_max_range_m) {
       int cx = 0, cy = 0;

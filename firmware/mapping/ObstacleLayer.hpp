@@ -70,7 +70,8 @@ class ObstacleLayer {
     std::uint8_t last_miss = 0;     // low byte of the scan counter of the last counted miss
     std::uint16_t hit_time_ds = 0;  // time of the last hit, 0.1 s ticks, wrapping
   };
-  void clear_ray(double x0, double y0, double x1, double y1, bool keep_end);
+  void clear_ray(double x0, double y0, double x1, double y1, bool keep_end, int col_off,
+                 int row_off);
   void decay(std::uint16_t now_ds);
 
   ObstacleLayerConfig cfg_;

@@ -2,11 +2,51 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <random>
 #include <vector>
 
 namespace carril::fw {
 namespace {
+
+// The walk trace_line made before it ran in wrap-free pieces (a wrap test on both coordinates
+// every step), kept as the reference its cell sequence must match exactly: the costmap's grids
+// and the simulator's trajectories depend on which cells a ray clears.
+std::vector<std::size_t> reference_trace(int cx0, int cy0, int cx1, int cy1, int nx, int ny,
+                                         bool include_end) {
+  std::vector<std::size_t> out;
+  const int adx = std::abs(cx1 - cx0), ady = std::abs(cy1 - cy0);
+  const int sx = cx1 >= cx0 ? 1 : -1, sy = cy1 >= cy0 ? 1 : -1;
+  int col = grid::wrap(cx0, nx), row = grid::wrap(cy0, ny);
+  const bool x_major = adx >= ady;
+  const int da = x_major ? adx : ady, db = x_major ? ady : adx;
+  int steps = include_end ? da + 1 : da;
+  int err = da / 2;
+  const auto step = [](int& v, int s, int n) {
+    v += s;
+    if (v == n) v = 0;
+    if (v < 0) v = n - 1;
+  };
+  while (steps-- > 0) {
+    out.push_back(std::size_t(row) * std::size_t(nx) + std::size_t(col));
+    if (x_major) {
+      step(col, sx, nx);
+    } else {
+      step(row, sy, ny);
+    }
+    err -= db;
+    if (err < 0) {
+      err += da;
+      if (x_major) {
+        step(row, sy, ny);
+      } else {
+        step(col, sx, nx);
+      }
+    }
+  }
+  return out;
+}
 
 struct Cell {
   int cx, cy;
@@ -53,6 +93,59 @@ TEST(GridRayTest, LinesRunFromStartToEndOneStepAtATime) {
   }
   EXPECT_TRUE(trace(-8, 7, -8, 7, false, ox, oy).empty());
   EXPECT_EQ(trace(-8, 7, -8, 7, true, ox, oy).size(), 1U);
+}
+
+TEST(GridRayTest, PiecewiseWalkVisitsTheReferenceCellsInOrder) {
+  // Windows whose storage wraps inside them in both axes (and one that does not), of odd and
+  // even sizes, down to one cell wide; random rays between any two cells of the window.
+  struct Window {
+    int nx, ny, ox, oy;
+  };
+  const Window windows[] = {{16, 12, -20, 5},    {240, 240, 1234, -517}, {7, 9, 3, -4},
+                            {1, 5, -3, 2},       {6, 1, 4, 8},           {33, 17, 0, 0},
+                            {240, 240, -119, 61}};
+  std::mt19937 rng(42);
+  int octants[8] = {};
+  int rays = 0, zero_length = 0, wrapped = 0;
+  for (const Window& w : windows) {
+    std::uniform_int_distribution<int> px(w.ox, w.ox + w.nx - 1), py(w.oy, w.oy + w.ny - 1);
+    for (int r = 0; r < 4000; ++r) {
+      const int x0 = px(rng), y0 = py(rng);
+      // A few rays of length zero, and many that are short.
+      int x1 = px(rng), y1 = py(rng);
+      if (r % 50 == 0) x1 = x0, y1 = y0;
+      if (r % 3 == 0) {
+        x1 = std::clamp(x0 + (x1 - x0) / 8, w.ox, w.ox + w.nx - 1);
+        y1 = std::clamp(y0 + (y1 - y0) / 8, w.oy, w.oy + w.ny - 1);
+      }
+      for (const bool include_end : {false, true}) {
+        std::vector<std::size_t> got;
+        grid::trace_line(x0, y0, x1, y1, w.nx, w.ny, include_end,
+                         [&](std::size_t i) { got.push_back(i); });
+        const auto want = reference_trace(x0, y0, x1, y1, w.nx, w.ny, include_end);
+        ASSERT_EQ(got, want) << "window " << w.nx << "x" << w.ny << " at (" << w.ox << ", " << w.oy
+                             << "), ray (" << x0 << ", " << y0 << ") -> (" << x1 << ", " << y1
+                             << "), include_end " << include_end;
+        ++rays;
+      }
+      const int dx = x1 - x0, dy = y1 - y0;
+      if (dx == 0 && dy == 0) {
+        ++zero_length;
+        continue;
+      }
+      // Octant: sign of x, sign of y, which axis is major.
+      ++octants[(dx < 0 ? 4 : 0) + (dy < 0 ? 2 : 0) + (std::abs(dx) >= std::abs(dy) ? 1 : 0)];
+      if (grid::wrap(x0, w.nx) + dx != grid::wrap(x1, w.nx) &&
+          grid::wrap(y0, w.ny) + dy != grid::wrap(y1, w.ny)) {
+        ++wrapped;  // crosses both a column and a row wrap
+      }
+    }
+  }
+  // The sample covers what it should.
+  for (int o = 0; o < 8; ++o) EXPECT_GT(octants[o], 100) << "octant " << o;
+  EXPECT_GT(zero_length, 100);
+  EXPECT_GT(wrapped, 1000);
+  EXPECT_EQ(rays, 2 * 4000 * int(std::size(windows)));
 }
 
 TEST(GridRayTest, ClipKeepsThePartInsideTheBox) {
