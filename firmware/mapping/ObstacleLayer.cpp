@@ -120,8 +120,7 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   // farther than the sensor could see.
   const double free_to = std::min(cfg_.raytrace_max_range_m, range_max);
   const double rmin = cfg_.raytrace_min_range_m;
-  const int col_off = grid::wrap(cost_.origin_cx(), cost_.nx());
-  const int row_off = grid::wrap(cost_.origin_cy(), cost_.ny());
+  const int col_off = cost_.column_offset(), row_off = cost_.row_offset();
   int n_hits = 0;
   for (int b = 0; b < n; ++b) {
     const float rf = scan.ranges_m[std::size_t(b)];

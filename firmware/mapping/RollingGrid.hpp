@@ -77,6 +77,8 @@ class RollingGrid {
     return &cells_[std::size_t(wrap(origin_cy_ + ly, ny_)) * nx_];
   }
   int column_offset() const { return wrap(origin_cx_, nx_); }
+  // Storage row of window row 0 (window row ly is storage row (row_offset() + ly) mod ny).
+  int row_offset() const { return wrap(origin_cy_, ny_); }
 
   void clear() {
     for (std::size_t i = 0, n = std::size_t(nx_) * ny_; i < n; ++i) cells_[i] = fill_;
