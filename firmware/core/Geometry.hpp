@@ -33,17 +33,31 @@ inline double clampd(double v, double lo, double hi) {
   return v < lo ? lo : (v > hi ? hi : v);
 }
 
+// A robot pose with its rotation worked out once, for moving many points between the frames
+// (a loop over a scan's points calling to_world() would pay a sincos per point).
+struct PoseFrame {
+  explicit PoseFrame(const Pose2& p) : pose(p), c(std::cos(p.yaw)), s(std::sin(p.yaw)) {}
+  // Robot-frame point [m] to the world frame [m].
+  Vec2 to_world(const Vec2& r) const {
+    return {pose.x + c * r.x() - s * r.y(), pose.y + s * r.x() + c * r.y()};
+  }
+  // World-frame point [m] to the robot frame [m].
+  Vec2 to_robot(const Vec2& w) const {
+    const double dx = w.x() - pose.x, dy = w.y() - pose.y;
+    return {c * dx + s * dy, -s * dx + c * dy};
+  }
+  Pose2 pose;
+  double c, s;  // cos and sin of pose.yaw
+};
+
 // Robot-frame point to world frame for a robot at `p`.
 inline Vec2 to_world(const Pose2& p, const Vec2& r) {
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  return {p.x + c * r.x() - s * r.y(), p.y + s * r.x() + c * r.y()};
+  return PoseFrame(p).to_world(r);
 }
 
 // World-frame point to the robot frame of a robot at `p`.
 inline Vec2 to_robot(const Pose2& p, const Vec2& w) {
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  const double dx = w.x() - p.x, dy = w.y() - p.y;
-  return {c * dx + s * dy, -s * dx + c * dy};
+  return PoseFrame(p).to_robot(w);
 }
 
 }  // namespace carril::fw

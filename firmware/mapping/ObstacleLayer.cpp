@@ -109,6 +109,8 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
     return st;
   }
   ++scan_counter_;
+  beams_.update(scan);
+  const double yaw_c = std::cos(sensor_pose.yaw), yaw_s = std::sin(sensor_pose.yaw);
   const std::uint16_t now_ds = std::uint16_t((scan.stamp_ns / 100'000'000) & 0xFFFF);
   // A return is a measurement only between the sensor's limits; with no limits given, any
   // positive range is.
@@ -131,9 +133,8 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
       continue;
     }
     const double r = inf ? HUGE_VAL : double(rf);
-    const double a =
-        sensor_pose.yaw + double(scan.angle_min_rad) + b * double(scan.angle_increment_rad);
-    const double c = std::cos(a), s = std::sin(a);
+    double c = 0.0, s = 0.0;
+    beams_.rotate(b, yaw_c, yaw_s, c, s);
     const bool is_return = !inf && r <= range_max;
     const double end = is_return ? std::min(r, cfg_.raytrace_max_range_m) : free_to;
     // The return's own cell is kept when the ray reaches it.

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 
+#include "firmware/core/BeamDirections.hpp"
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/mapping/RollingGrid.hpp"
@@ -77,6 +78,7 @@ class ObstacleLayer {
   ObstacleLayerConfig cfg_;
   RollingGrid<std::uint8_t> cost_;
   RollingGrid<CellState> state_;
+  BeamDirections beams_;  // the beams' directions in the sensor frame, kept across scans
   std::array<int, 2 * hal::kMaxScanBeams> hits_{};  // this scan's hit cells (cx, cy), marked last
   std::uint8_t scan_counter_ = 0;
   std::uint16_t last_decay_ds_ = 0;

@@ -1,6 +1,5 @@
 #include "firmware/perception/ObstacleField.hpp"
 
-#include <bit>
 #include <cmath>
 
 namespace carril::fw {
@@ -8,20 +7,8 @@ namespace carril::fw {
 void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
-  const int n = scan.count < hal::kMaxScanBeams ? scan.count : hal::kMaxScanBeams;
-  // Compared by their bits: no floating-point comparison of what may be a NaN.
-  const auto min_bits = std::bit_cast<std::uint32_t>(scan.angle_min_rad);
-  const auto inc_bits = std::bit_cast<std::uint32_t>(scan.angle_increment_rad);
-  if (n != table_n_ || min_bits != table_min_bits_ || inc_bits != table_inc_bits_) {
-    for (int i = 0; i < n; ++i) {
-      const double a = double(scan.angle_min_rad) + i * double(scan.angle_increment_rad);
-      beam_cos_[std::size_t(i)] = std::cos(a);
-      beam_sin_[std::size_t(i)] = std::sin(a);
-    }
-    table_n_ = n;
-    table_min_bits_ = min_bits;
-    table_inc_bits_ = inc_bits;
-  }
+  const int n = beams_.update(scan);
+  const PoseFrame frame(odom);
   for (int i = 0; i < n; ++i) {
     float r = scan.ranges_m[std::size_t(i)];
     // -inf is something closer than the scanner can measure (REP 117): an obstacle at range_min.
@@ -31,10 +18,10 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
       ++invalid_beams_;
       continue;
     }
-    const double sx = double(r) * beam_cos_[std::size_t(i)];
-    const double sy = double(r) * beam_sin_[std::size_t(i)];
+    const double sx = double(r) * beams_.cos(i);
+    const double sy = double(r) * beams_.sin(i);
     const Vec2 robot(mx_ + c * sx - s * sy, my_ + s * sx + c * sy);
-    pts_.push_back(to_world(odom, robot));
+    pts_.push_back(frame.to_world(robot));
   }
   valid_ = true;
 }
@@ -42,8 +29,9 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
 double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) const {
   double best = max_m;
   const double half_w = fp_.half_width_m + margin_m;
+  const PoseFrame frame(odom);
   for (const Vec2& w : pts_) {
-    const Vec2 p = to_robot(odom, w);
+    const Vec2 p = frame.to_robot(w);
     if (p.x() > fp_.half_length_m && std::fabs(p.y()) <= half_w) {
       const double d = p.x() - fp_.half_length_m;
       if (d < best) best = d;
@@ -54,8 +42,9 @@ double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) 
 
 double ObstacleField::clearance_m(const Pose2& odom) const {
   double best = 1e9;
+  const PoseFrame frame(odom);
   for (const Vec2& w : pts_) {
-    const Vec2 p = to_robot(odom, w);
+    const Vec2 p = frame.to_robot(w);
     const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
     const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
     const double d = std::sqrt(dx * dx + dy * dy);

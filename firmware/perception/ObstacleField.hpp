@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 
+#include "firmware/core/BeamDirections.hpp"
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "hal/Types.hpp"
@@ -41,11 +42,7 @@ class ObstacleField {
   bool valid_ = false;
   std::uint64_t invalid_beams_ = 0;
   StaticVector<Vec2, hal::kMaxScanBeams> pts_;
-  // cos and sin of each beam's angle in the sensor frame, kept while the scan's angle_min,
-  // increment and count stay the same (a scanner's do): no trigonometry per beam per scan.
-  std::array<double, hal::kMaxScanBeams> beam_cos_{}, beam_sin_{};
-  std::uint32_t table_min_bits_ = 0, table_inc_bits_ = 0;
-  int table_n_ = -1;
+  BeamDirections beams_;  // no trigonometry per beam per scan
 };
 
 }  // namespace carril::fw

@@ -21,8 +21,9 @@ void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
   // only remembered points behind that point (already passed under the camera).
   const double near_x = pts_robot[0].x() - 0.005;
   StaticVector<Vec2, kMaxPoints> kept;
+  const PoseFrame frame(odom);
   for (const Vec2& p : pts_) {
-    if (to_robot(odom, p).x() < near_x) kept.push_back(p);
+    if (frame.to_robot(p).x() < near_x) kept.push_back(p);
   }
   // Trim the oldest points (far behind by then) so there is room.
   const std::size_t room = kMaxPoints - n;
@@ -30,7 +31,7 @@ void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
   pts_.clear();
   for (std::size_t i = skip; i < kept.size(); ++i) pts_.push_back(kept[i]);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 w = to_world(odom, pts_robot[i]);
+    const Vec2 w = frame.to_world(pts_robot[i]);
     if (!pts_.empty() && (w - pts_.back()).norm() < kMinSpacing) continue;
     // Tape does not double back within a few centimetres: a point that would turn the path by
     // more than about 100 deg is a centroid of a band that straddles both legs of a corner.

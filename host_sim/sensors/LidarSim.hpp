@@ -5,6 +5,7 @@
 // beam of each scan lost with that probability).
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
@@ -25,6 +26,10 @@ class LidarSim {
   std::mt19937_64 drop_rng_;  // its own: dropping beams does not move the noise's draws
   std::uniform_real_distribution<double> drop_{0.0, 1.0};
   RayCaster caster_;  // the world's fixtures, gathered once per scan
+  // cos and sin of each beam's angle on the robot (mount yaw included), fixed by the spec: a
+  // beam's world direction is this turned by the robot's yaw, not a sincos per beam per scan.
+  std::vector<double> beam_cos_, beam_sin_;
+  double inc_rad_ = 0.0;  // between neighbouring beams [rad]
 };
 
 }  // namespace carril::sim

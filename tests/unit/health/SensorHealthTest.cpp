@@ -205,6 +205,34 @@ TEST(FrameHealthTest, ChangingImageWhileDrivingIsFine) {
   }
 }
 
+TEST(FrameHealthTest, OneSampledPixelChangingIsAChangedImage) {
+  // Every sample counts, in either of the hash's two chains (even and odd samples of a row) and
+  // in each channel, the last sample of the last sampled row included: the frozen rule must not
+  // fire while any of them moves. And the spread sees that sample as well.
+  const FrameHealthConfig cfg;
+  const int step = cfg.sample_step_px, half = step / 2;
+  const int last_u = half + ((160 - 1 - half) / step) * step;
+  const int last_v = half + ((120 - 1 - half) / step) * step;
+  const int us[] = {half, half + step, last_u};
+  for (const int u : us) {
+    for (int c = 0; c < 3; ++c) {
+      FrameHealth h(cfg);
+      auto f = textured(3);
+      Pose2 p;
+      for (int i = 0; i < 20; ++i) {
+        f->pixel(u, last_v)[c] = std::uint8_t(i % 2 == 0 ? 90 : 91);
+        EXPECT_EQ(h.add(*f, p), FrameVerdict::Ok) << "u " << u << " channel " << c << " " << i;
+        p.x += 0.0167;
+      }
+    }
+  }
+  FrameHealth h(cfg);
+  auto f = textured(3);
+  f->pixel(last_u, last_v)[2] = 250;  // R, far above the texture's 90 to 100
+  h.add(*f, Pose2{});
+  EXPECT_EQ(h.last_spread(), 250 - 90);
+}
+
 // ---- IMU ----
 
 hal::ImuSample imu(double t_s, float wz, float roll = 0.0F) {
