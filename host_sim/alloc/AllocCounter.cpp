@@ -3,14 +3,16 @@
 #include <cstdlib>
 #include <new>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define CARRIL_COUNT_MALLOC 0
-#else
+// glibc exports its allocator under __libc_* names, so malloc can be wrapped without dlsym.
+// AddressSanitizer owns malloc: there only operator new is counted.
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
 #define CARRIL_COUNT_MALLOC 1
+#else
+#define CARRIL_COUNT_MALLOC 0
 #endif
 
 namespace {
-// Plain globals: the firmware is single-threaded and a window is opened around one tick.
+// Plain globals: the firmware's tick runs on one thread and a window is opened around it.
 bool g_in_window = false;
 std::uint64_t g_in_windows = 0;
 std::uint64_t g_total = 0;
@@ -120,6 +122,13 @@ void* operator new(std::size_t n, std::align_val_t a) {
 }
 void* operator new[](std::size_t n, std::align_val_t a) {
   return operator new(n, a);
+}
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  note();
+  return CARRIL_RAW_ALIGNED(std::size_t(a), n ? n : 1);
+}
+void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t& t) noexcept {
+  return operator new(n, a, t);
 }
 void operator delete(void* p) noexcept {
   CARRIL_RAW_FREE(p);

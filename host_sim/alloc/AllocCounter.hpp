@@ -1,8 +1,10 @@
 #pragma once
-// Counts heap allocations made inside "windows" (the firmware's ticks). Linking this library
-// replaces global operator new/delete and malloc/calloc/realloc/memalign/aligned_alloc/
-// posix_memalign/valloc/pvalloc with counting
-// versions (the way ArduPilot wraps malloc); outside a window they cost one branch.
+// Counts heap allocations made inside "windows" (the firmware's ticks), for the simulator and for
+// the tests (the aarch64 cross build's included: it is built without the simulator). Linking
+// carril_alloc_counter replaces global operator new (every form) with a counting version, and
+// with glibc and without AddressSanitizer malloc, calloc, realloc, memalign, aligned_alloc,
+// posix_memalign, valloc and pvalloc too (the way ArduPilot wraps malloc). Outside a window a
+// count costs one increment.
 #include <cstdint>
 
 namespace carril::alloc {
@@ -14,8 +16,8 @@ void end_window();
 std::uint64_t count_in_windows();
 // Allocations anywhere since start (sanity check that counting is live).
 std::uint64_t count_total();
-// True when malloc itself is replaced (false under AddressSanitizer, which owns malloc; then
-// only operator new is counted).
+// True when malloc and its family are counted too (glibc, no AddressSanitizer, which owns
+// malloc; then only operator new is counted).
 bool counts_malloc();
 
 }  // namespace carril::alloc

@@ -1,6 +1,6 @@
 // Static allocation, proven without the simulator, so it runs wherever the firmware runs (the
 // aarch64 cross build under qemu included): this binary replaces the global allocators with
-// counting versions (tests/support/CountingAllocator), wires fw::LineFirmware and FirmwareApp to
+// counting versions (host_sim/alloc/AllocCounter), wires fw::LineFirmware and FirmwareApp to
 // fake HAL devices (the in-process hal/sim backends, fed here: camera frames with a tape line
 // drawn in, empty-room scans, IMU samples, wheel feedback from ideal motors) and runs hundreds of
 // ticks after init. Not one allocation may happen inside a tick.
@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <malloc.h>
+#include <new>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,7 +22,7 @@
 #include "firmware/core/Faults.hpp"
 #include "hal/Devices.hpp"
 #include "hal/sim/SimDevices.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -90,9 +92,9 @@ class FakeRobot {
     publish_sensors(t);
 
     Eigen::internal::set_is_malloc_allowed(false);
-    test::alloc::begin_window();
+    alloc::begin_window();
     app_.step();
-    test::alloc::end_window();
+    alloc::end_window();
     Eigen::internal::set_is_malloc_allowed(true);
 
     drives_.take_setpoints(wheel_radps_);
@@ -182,28 +184,65 @@ class FakeRobot {
 
 TEST(FirmwareAllocationTest, CounterSeesAnAllocationInsideAWindow) {
   // Control: the counter is live, so the zeros below mean something.
-  const std::uint64_t before = test::alloc::count_in_windows();
-  test::alloc::begin_window();
+  const std::uint64_t before = alloc::count_in_windows();
+  alloc::begin_window();
   int* p = new int(3);
   escape(p);
-  test::alloc::end_window();
+  alloc::end_window();
   delete p;
-  EXPECT_EQ(test::alloc::count_in_windows() - before, 1U);
-  if (test::alloc::counts_malloc()) {
-    test::alloc::begin_window();
+  EXPECT_EQ(alloc::count_in_windows() - before, 1U);
+  if (alloc::counts_malloc()) {
+    alloc::begin_window();
     void* m = std::malloc(16);
     escape(m);
-    test::alloc::end_window();
+    alloc::end_window();
     std::free(m);
-    EXPECT_EQ(test::alloc::count_in_windows() - before, 2U);
+    EXPECT_EQ(alloc::count_in_windows() - before, 2U);
+  }
+}
+
+TEST(FirmwareAllocationTest, EveryFormOfAllocationIsCounted) {
+  // The counter is one implementation for the simulator and the tests: each form it replaces
+  // counts once (the aligned and nothrow operator new; memalign, valloc and posix_memalign where
+  // malloc's family is counted).
+  const std::uint64_t before = alloc::count_in_windows();
+  std::uint64_t expected = 0;
+  alloc::begin_window();
+  void* a = ::operator new(64, std::align_val_t(64));
+  void* b = ::operator new(64, std::align_val_t(64), std::nothrow);
+  void* c = ::operator new[](8, std::nothrow);
+  alloc::end_window();
+  expected += 3;
+  escape(a);
+  escape(b);
+  escape(c);
+  ::operator delete(a, std::align_val_t(64));
+  ::operator delete(b, std::align_val_t(64));
+  ::operator delete[](c);
+  EXPECT_EQ(alloc::count_in_windows() - before, expected);
+  if (alloc::counts_malloc()) {
+    void* d = nullptr;
+    alloc::begin_window();
+    void* e = memalign(64, 64);
+    void* f = valloc(64);
+    const int rc = posix_memalign(&d, 64, 64);
+    alloc::end_window();
+    expected += 3;
+    escape(e);
+    escape(f);
+    EXPECT_EQ(rc, 0);
+    std::free(d);
+    std::free(e);
+    std::free(f);
+    EXPECT_EQ(alloc::count_in_windows() - before, expected);
   }
 }
 
 TEST(FirmwareAllocationTest, FollowingTheTapeAllocatesNothingInsideTicks) {
-  const std::uint64_t total_before = test::alloc::count_total();
+  const std::uint64_t total_before = alloc::count_total();
   FakeRobot robot;                                      // init: allocating here is allowed
-  EXPECT_GT(test::alloc::count_total(), total_before);  // counting is on
-  const std::uint64_t before = test::alloc::count_in_windows();
+  EXPECT_GT(alloc::count_total(), total_before);  // counting is on
+  const std::uint64_t before = alloc::count_in_windows();
   constexpr int kTicks = 600;  // 6 s at 100 Hz: 180 frames, 120 scans
   for (int i = 0; i < kTicks; ++i) robot.step();
 
@@ -216,12 +255,12 @@ TEST(FirmwareAllocationTest, FollowingTheTapeAllocatesNothingInsideTicks) {
   EXPECT_GE(f.watch.telemetry().scans, 100U);
   EXPECT_TRUE(std::isgreater(f.telemetry().odom.x, 0.2)) << f.telemetry().odom.x;
 
-  EXPECT_EQ(test::alloc::count_in_windows() - before, 0U);
+  EXPECT_EQ(alloc::count_in_windows() - before, 0U);
 }
 
 TEST(FirmwareAllocationTest, DriveFaultAndQuickStopAllocateNothingEither) {
   FakeRobot robot;
-  const std::uint64_t before = test::alloc::count_in_windows();
+  const std::uint64_t before = alloc::count_in_windows();
   for (int i = 0; i < 300; ++i) robot.step();
   robot.drives().inject_fault(0, hal::DriveFault::Overcurrent);
   for (int i = 0; i < 300; ++i) robot.step();
@@ -230,7 +269,7 @@ TEST(FirmwareAllocationTest, DriveFaultAndQuickStopAllocateNothingEither) {
   EXPECT_STREQ(fault_name(f.controller.fault()), "drive_fault");
   EXPECT_EQ(std::string(f.controller.state_name()), "FAULT");
   EXPECT_GT(robot.drives().quick_stop_requests(), 0);
-  EXPECT_EQ(test::alloc::count_in_windows() - before, 0U);
+  EXPECT_EQ(alloc::count_in_windows() - before, 0U);
 }
 
 }  // namespace

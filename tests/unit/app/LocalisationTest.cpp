@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -103,13 +103,13 @@ TEST(Localisation, OnAMapItConvergesOntoTheTruePoseAndOnlyThenIsLocalised) {
   for (std::uint32_t k = 1; k <= 40; ++k) scans.push_back(scan_from(map, truth, k));
   r.tick(l, 0, nullptr);
   EXPECT_FALSE(r.pose.get().localised);  // no scan weighed yet
-  test::alloc::begin_window();
+  alloc::begin_window();
   std::int64_t t = 0;
   for (const hal::LaserScan& s : scans) {
     for (int k = 0; k < 5; ++k) r.tick(l, t += 10'000'000, &s);  // 20 Hz scans, 100 Hz ticks
   }
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
   const Pose2& p = r.pose.get().pose;
   EXPECT_TRUE(r.pose.get().localised);
   EXPECT_LT(std::hypot(p.x - truth.x, p.y - truth.y), 0.1) << p.x << ", " << p.y;
@@ -170,10 +170,10 @@ TEST(Localisation, AKidnapIsLostByTheFitBeforeTheSpreadWidensThenFoundAgainAsAJu
   EXPECT_LT(std::hypot(before.back().pose.x - start.x, before.back().pose.y - start.y), 0.1);
   // Lifted across the room; the odometry knows nothing of it.
   const Pose2 there{1.6, -1.1, 0.0};
-  test::alloc::begin_window();
+  alloc::begin_window();
   turn.run(there, yaw, 80, after);
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
   int lost_at = -1, found_at = -1;
   for (int k = 0; k < int(after.size()); ++k) {
     if (lost_at < 0 && !after[std::size_t(k)].localised) lost_at = k;

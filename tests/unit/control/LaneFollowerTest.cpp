@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -84,7 +84,7 @@ TEST(LaneFollowerTest, FollowsAUTurnOfHalfTheLaneSpacingClosely) {
   const Pose2& pose = robot.pose;
   double worst = 0.0, top = 0.0, slowest_on_arc = 1.0, fastest = 0.0;
   int steps = 0;
-  const auto before = test::alloc::count_total();
+  const auto before = alloc::count_total();
   for (; steps < 3000 && !f.at_end(); ++steps) {
     const Twist t = f.update(pose, p.data(), p.size());
     EXPECT_LE(std::fabs(t.wz), cfg.max_yaw_rate_radps + 1e-9);
@@ -94,7 +94,7 @@ TEST(LaneFollowerTest, FollowsAUTurnOfHalfTheLaneSpacingClosely) {
     worst = std::fmax(worst, off_route(Vec2(pose.x, pose.y), r));
     top = std::fmax(top, pose.y);
   }
-  EXPECT_EQ(test::alloc::count_total(), before);
+  EXPECT_EQ(alloc::count_total(), before);
   EXPECT_TRUE(f.at_end());
   // Within 2.5 cm of the route all the way (the yaw rate lags the arc's start), and the U-turn
   // reaches its top (the lane end cells).

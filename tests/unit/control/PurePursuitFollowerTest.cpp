@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -32,12 +32,12 @@ TEST(PurePursuitFollowerTest, ConvergesOntoAStraightLineFromAnOffset) {
   Pose2 pose{0.0, 0.5, 0.0};
   double worst_after_4m = 0.0;
   int steps = 0;
-  const auto before = test::alloc::count_total();
+  const auto before = alloc::count_total();
   for (; steps < 3000 && !f.at_end(); ++steps) {
     integrate(pose, f.update(pose, path.data(), path.size()), 0.02);
     if (pose.x > 4.0) worst_after_4m = std::fmax(worst_after_4m, std::fabs(pose.y));
   }
-  EXPECT_EQ(test::alloc::count_total(), before);
+  EXPECT_EQ(alloc::count_total(), before);
   EXPECT_TRUE(f.at_end());
   EXPECT_LT(worst_after_4m, 0.02);
   EXPECT_NEAR(pose.x, 8.0, 0.06);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -41,7 +41,7 @@ BlockRun drive_past_block(std::uint8_t block_cost, const VffConfig& cfg = {}) {
   Pose2 pose{0.0, 0.0, 0.0};
   BlockRun run;
   bool passed = false;
-  const auto before = test::alloc::count_total();
+  const auto before = alloc::count_total();
   for (int i = 0; i < 4000 && !f.at_end(); ++i) {
     integrate(pose, f.update(pose, path.data(), path.size(), map), 0.02);
     run.min_clearance = std::fmin(run.min_clearance, std::hypot(pose.x - 2.0, pose.y + 0.2));
@@ -50,7 +50,7 @@ BlockRun drive_past_block(std::uint8_t block_cost, const VffConfig& cfg = {}) {
       run.y_at_block = pose.y;
     }
   }
-  run.allocations = test::alloc::count_total() - before;
+  run.allocations = alloc::count_total() - before;
   run.reached = f.at_end();
   run.end = pose;
   return run;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/estimation/MclWorld.hpp"
 
 namespace carril::fw {
@@ -239,20 +239,20 @@ TEST(MclLocalizer, UpdatesAllocateNothing) {
     driver.step();
     if (t % 4 != 0) continue;
     synth_scan(map, driver.truth(), kMount, {}, sensor, scan);
-    test::alloc::begin_window();
+    alloc::begin_window();
     if (mcl.begin_update(scan, driver.odom(), kMount)) {
       while (mcl.step(97)) {
       }
     }
-    test::alloc::end_window();
+    alloc::end_window();
   }
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
   EXPECT_GT(mcl.telemetry().resamples, 50U);
   EXPECT_GT(mcl.telemetry().injected, 0U);
   // Counting is live: a vector outside a window is counted.
-  const std::uint64_t total_before = test::alloc::count_total();
+  const std::uint64_t total_before = alloc::count_total();
   auto v = std::make_unique<std::vector<int>>(10);
-  EXPECT_GT(test::alloc::count_total(), total_before);
+  EXPECT_GT(alloc::count_total(), total_before);
 }
 
 // The same seed and scans give the same particles bit for bit, however the updates are spread

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -146,13 +146,13 @@ TEST(CoverageGridTest, MaskStatisticsAndTheUnsweptCells) {
 
 TEST(CoverageGridTest, SweepingDoesNotAllocate) {
   CoverageGrid g = make_grid();
-  test::alloc::begin_window();
+  alloc::begin_window();
   const Pose2 end = drive(g, Pose2{0.5, 1.0, 0.0}, Pose2{3.5, 1.5, 0.2});
   g.sweep(end, Pose2{end.x, end.y, 3.0}, 0.5);
   std::size_t k = 0;
   g.next_unswept(k);
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
 }
 
 TEST(CoverageGridTest, AnInvalidMapIsAClearError) {

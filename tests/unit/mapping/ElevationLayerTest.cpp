@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/mapping/SyntheticTerrain.hpp"
 
 namespace carril::fw {
@@ -259,15 +259,15 @@ TEST(ElevationLayerTest, FuseDoesNotAllocate) {
   ElevationLayer l;
   ASSERT_TRUE(l.init(small_config()).is_ok());
   synth::render(synth::ramp(1.0, 2.0, 5.0), 0.5, sensor_at(0, 0, 0.7), {}, *cloud);
-  test::alloc::begin_window();
+  alloc::begin_window();
   for (int i = 0; i < 3; ++i) {
     cloud->stamp_ns += 100'000'000;
     l.recenter(0.1 * i, 0.0);
     l.fuse(*cloud, sensor_at(0.1 * i, 0, 0.7));
   }
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
-  EXPECT_GT(test::alloc::count_total(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
+  EXPECT_GT(alloc::count_total(), 0U);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -164,11 +164,11 @@ TEST(InflationLayerTest, ApplyDoesNotAllocate) {
   ASSERT_TRUE(inf.init(default_config(), 100, 100, kRes));
   auto g = make_grid(100, cost::kFree);
   for (int i = 0; i < 100; i += 3) g.local(i, (i * 7) % 100) = cost::kLethal;
-  test::alloc::begin_window();
+  alloc::begin_window();
   inf.apply(g, g);
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
-  EXPECT_GT(test::alloc::count_total(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
+  EXPECT_GT(alloc::count_total(), 0U);
 }
 
 TEST(InflationLayerTest, ValidateAndInitRejectBadRadii) {

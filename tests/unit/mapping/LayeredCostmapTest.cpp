@@ -7,7 +7,7 @@
 #include <string>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -135,7 +135,7 @@ TEST(LayeredCostmapTest, TickDoesNotAllocate) {
   s.range_max_m = 10.0F;
   for (int i = 0; i < 541; ++i) s.ranges_m[std::size_t(i)] = 1.0F + float(i % 50) * 0.1F;
   const RollingGrid<std::uint8_t>* layers[] = {&extra};
-  test::alloc::begin_window();
+  alloc::begin_window();
   for (int k = 0; k < 3; ++k) {
     cm.recenter(0.3 * k, 0.1 * k);
     extra.recenter(0.3 * k, 0.1 * k);
@@ -143,8 +143,8 @@ TEST(LayeredCostmapTest, TickDoesNotAllocate) {
     cm.update_master(layers, 1);
     (void)cm.footprint_cost(Pose2{0.3 * k, 0.0, 0.0}, 0.4, 0.3);
   }
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
 }
 
 }  // namespace

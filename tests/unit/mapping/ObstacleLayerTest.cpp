@@ -8,7 +8,7 @@
 #include <string>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -180,12 +180,12 @@ TEST(ObstacleLayerTest, UpdateDoesNotAllocate) {
   hal::LaserScan s = make_scan(541, -135 * kDeg, 0.5 * kDeg, 3.0F);
   for (int i = 0; i < 541; i += 7) s.ranges_m[std::size_t(i)] = kInf;
   l.update(s, kOrigin);  // warm up
-  test::alloc::begin_window();
+  alloc::begin_window();
   for (int i = 0; i < 5; ++i) l.update(s, Pose2{0.1 * i, 0.0, 0.1 * i});
   l.recenter(0.5, 0.5);
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
-  EXPECT_GT(test::alloc::count_total(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
+  EXPECT_GT(alloc::count_total(), 0U);
 }
 
 TEST(ObstacleLayerTest, ValidateNamesTheKey) {

@@ -1,2 +1,2 @@
 carril_add_test(mapping_rolling_grid_test SOURCES RollingGridTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -88,9 +88,9 @@ TEST(RollingGridTest, CopyToIsRowMajorFromTheLowerLeftCell) {
 TEST(RollingGridTest, MovingNeverAllocates) {
   RollingGrid<std::uint8_t> g;
   ASSERT_TRUE(g.init(240, 240, 0.05, 255));
-  const auto before = test::alloc::count_total();
+  const auto before = alloc::count_total();
   for (int i = 0; i < 500; ++i) g.recenter(0.013 * i, -0.007 * i);
-  EXPECT_EQ(test::alloc::count_total(), before);
+  EXPECT_EQ(alloc::count_total(), before);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 carril_add_test(mapping_pose3_tracker_test SOURCES Pose3TrackerTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)
 carril_add_test(mapping_elevation_layer_test SOURCES ElevationLayerTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)
 carril_add_test(mapping_terrain_analysis_test SOURCES TerrainAnalysisTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)
 carril_add_test(mapping_traversability_layer_test SOURCES TraversabilityLayerTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)

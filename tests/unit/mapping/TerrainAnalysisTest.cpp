@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/mapping/SyntheticTerrain.hpp"
 
 namespace carril::fw {
@@ -150,11 +150,11 @@ TEST(TerrainAnalysisTest, ClosedFormEigenvectorMatchesEigen) {
 TEST(TerrainAnalysisTest, ComputeDoesNotAllocate) {
   Fixture f;
   synth::fill(f.grid, synth::ramp(-1.0, 2.0, 10.0));
-  test::alloc::begin_window();
+  alloc::begin_window();
   f.ta.compute(f.grid);
   f.ta.compute(f.grid, 10, 10, 20, 20);
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mapping/ElevationLayer.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/mapping/SyntheticTerrain.hpp"
 
 namespace carril::fw {
@@ -177,10 +177,10 @@ TEST(TraversabilityLayerTest, StartAreaIsFreeUntilObserved) {
 TEST(TraversabilityLayerTest, UpdateDoesNotAllocate) {
   Pipeline pl;
   pl.see(synth::ramp(1.5, 3.0, 5.0), 0.6, 0.0, 0.0, TraversabilityProfile{});
-  test::alloc::begin_window();
+  alloc::begin_window();
   pl.trav.update(pl.terrain, TraversabilityProfile{});
-  test::alloc::end_window();
-  EXPECT_EQ(test::alloc::count_in_windows(), 0U);
+  alloc::end_window();
+  EXPECT_EQ(alloc::count_in_windows(), 0U);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -189,12 +189,12 @@ struct Rig {
       ctx.t_s = k * 0.01;
       ctx.dt_s = 0.01;
       ctx.drives_ready = true;
-      if (count_allocations) test::alloc::begin_window();
+      if (count_allocations) alloc::begin_window();
       const auto t0 = std::chrono::steady_clock::now();
       const MissionOutput out = mission->update(ctx);
       const double us =
           std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-      if (count_allocations) test::alloc::end_window();
+      if (count_allocations) alloc::end_window();
       r.update_us.push_back(us);
       const CoverageMission::State now = mission->current();
       if (prev == CoverageMission::State::Forward || prev == CoverageMission::State::Spiral) {
@@ -415,12 +415,12 @@ TEST(CoverageMissionTest, UpdateDoesNotAllocate) {
   rig.run(400.0);
   EXPECT_EQ(rig.mission->current(), CoverageMission::State::Done);
   EXPECT_GT(rig.mission->coverage().covered_cells(), 1000u);
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
   Rig vac(CoverageMode::Vacuum);
   vac.start();
   vac.count_allocations = true;
   vac.run(30.0);
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
 }
 
 TEST(CoverageMissionTest, AMapWithNoFreeCellFailsWithAClearErrorAndAFault) {

@@ -12,7 +12,7 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mission/GotoMission.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -110,9 +110,9 @@ struct Taxi {
       ctx.dt_s = 0.01;
       ctx.drives_ready = true;
       const std::uint32_t before = mission->goals_reached();
-      if (allocations_counted) test::alloc::begin_window();
+      if (allocations_counted) alloc::begin_window();
       out = mission->update(ctx);
-      if (allocations_counted) test::alloc::end_window();
+      if (allocations_counted) alloc::end_window();
       if (mission->goals_reached() != before) reached_at.push_back(pose);
       if (states.empty() || states.back() != mission->current()) {
         states.push_back(mission->current());
@@ -276,12 +276,12 @@ TEST(GotoSequenceTest, UpdateDoesNotAllocate) {
   t.run(2.0);
   t.costmap.block(4.5, 0.0, 5.5, 1.0, true);  // a replan on the way
   t.allocations_counted = true;
-  const std::uint64_t total_before = test::alloc::count_total();
+  const std::uint64_t total_before = alloc::count_total();
   t.run(250.0);
   ASSERT_EQ(t.mission->current(), GotoMission::State::Done);
   EXPECT_GE(t.mission->replans(), 1u);
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
-  EXPECT_GT(test::alloc::count_total(), total_before);  // counting is live (the test's vectors)
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
+  EXPECT_GT(alloc::count_total(), total_before);  // counting is live (the test's vectors)
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mission/WaypointMission.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw::test_waypoints {
 
@@ -150,9 +150,9 @@ struct Bench {
       ctx.drives_ready = drives_ready;
       const std::uint32_t before = mission->targets_reached();
       const std::size_t target = mission->target_index();
-      if (allocations_counted) test::alloc::begin_window();
+      if (allocations_counted) alloc::begin_window();
       out = mission->update(ctx);
-      if (allocations_counted) test::alloc::end_window();
+      if (allocations_counted) alloc::end_window();
       if (const char* p = mission->take_phase_change()) {
         phases.push_back(p);
         const std::size_t k = std::min(mission->target_index(), cfg.targets.size() - 1);

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/mission/WaypointHarness.hpp"
 
 namespace carril::fw {
@@ -200,12 +200,12 @@ TEST(WaypointMissionTest, UpdateDoesNotAllocate) {
   c.cfg.on_unreachable = WaypointGiveUp::Skip;
   c.start();
   c.allocations_counted = true;
-  const std::uint64_t total_before = test::alloc::count_total();
+  const std::uint64_t total_before = alloc::count_total();
   c.run(400.0);
   ASSERT_EQ(c.mission->current(), WaypointMission::State::Done);
   EXPECT_EQ(c.mission->targets_skipped(), 2u) << ::testing::PrintToString(c.order);
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
-  EXPECT_GT(test::alloc::count_total(), total_before);  // counting is live (the test's vectors)
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
+  EXPECT_GT(alloc::count_total(), total_before);  // counting is live (the test's vectors)
 }
 
 }  // namespace

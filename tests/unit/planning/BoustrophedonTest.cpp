@@ -15,7 +15,7 @@
 #include "firmware/mapping/CoverageGrid.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/planning/CoverageArea.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -436,13 +436,13 @@ TEST(BoustrophedonTest, PlanningDoesNotAllocate) {
   ASSERT_TRUE(b.init(100, 100, 1024, 4096).is_ok());
   const Mask m = random_mask(7);
   static StaticVector<Vec2, 4096> route;
-  test::alloc::begin_window();
+  alloc::begin_window();
   const bool ok = decompose(b, m).is_ok();
   b.order(Vec2(0.5, 0.5));
   for (std::size_t k = 0; k < b.cell_count(); ++k) b.route(b.tour()[k], route);
-  test::alloc::end_window();
+  alloc::end_window();
   ASSERT_TRUE(ok);
-  EXPECT_EQ(test::alloc::count_in_windows(), 0u);
+  EXPECT_EQ(alloc::count_in_windows(), 0u);
 }
 
 // ---- the coverage area, from a static map ----

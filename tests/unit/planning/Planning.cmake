@@ -1,2 +1,2 @@
 carril_add_test(planning_wavefront_test SOURCES WavefrontPlannerTest.cpp
-  LIBS carril_firmware carril_test_alloc_counter)
+  LIBS carril_firmware carril_alloc_counter)

@@ -14,7 +14,7 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
-#include "tests/support/CountingAllocator.hpp"
+#include "host_sim/alloc/AllocCounter.hpp"
 
 namespace carril::fw {
 namespace {
@@ -385,15 +385,15 @@ TEST(WavefrontPlannerTest, NoAllocationAfterInit) {
   WavefrontPlanner p;
   ASSERT_TRUE(p.init(200, 200, config()));
   static Path path;
-  const auto before = test::alloc::count_total();
+  const auto before = alloc::count_total();
   ASSERT_EQ(p.start(clear.c.data(), 200, 200, 100, 100), WavefrontStatus::Running);
   while (p.step(1000) == WavefrontStatus::Running) {
   }
   const PathResult r = p.extract_path(5, 5, path);
-  EXPECT_EQ(test::alloc::count_total(), before);
+  EXPECT_EQ(alloc::count_total(), before);
   EXPECT_EQ(r, PathResult::Ok);
   auto* leak = new int(3);  // shows that counting is live
-  EXPECT_GT(test::alloc::count_total(), before);
+  EXPECT_GT(alloc::count_total(), before);
   delete leak;
 }
 
