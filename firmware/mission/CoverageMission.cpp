@@ -201,23 +201,15 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
 }
 
 void CoverageMission::go(State s, const char* phase) {
-  if (s != state_ || phase != phase_) phase_change_ = phase;
+  phase_.set(phase, s != state_);
   if (s != state_) state_t0_s_ = now_s_;
   state_ = s;
-  phase_ = phase;
-}
-
-const char* CoverageMission::take_phase_change() {
-  const char* p = phase_change_;
-  phase_change_ = nullptr;
-  return p;
 }
 
 void CoverageMission::enter(const MissionContext& ctx) {
   now_s_ = ctx.t_s;
   state_ = State::Wait;
-  phase_ = "wait";
-  phase_change_ = "wait";
+  phase_.restart("wait");
   t0_s_ = -1.0;
   have_last_ = false;
   planning_ = false;
@@ -236,7 +228,7 @@ MissionState CoverageMission::state() const {
   MissionState s;
   s.id = static_cast<std::uint8_t>(state_);
   s.name = coverage_state_name(state_);
-  s.phase = phase_;
+  s.phase = phase_.current();
   s.on_path = state_ == State::Sweep;
   switch (state_) {
     case State::Wait:

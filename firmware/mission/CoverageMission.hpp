@@ -51,6 +51,7 @@
 #include "firmware/mapping/CoverageGrid.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/mission/MissionPhase.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "firmware/planning/Boustrophedon.hpp"
 #include "firmware/planning/CoverageArea.hpp"
@@ -144,7 +145,7 @@ class CoverageMission final : public Mission {
   void exit() override {}
   MissionOutput update(const MissionContext& ctx) override;
   MissionState state() const override;
-  const char* take_phase_change() override;
+  const char* take_phase_change() override { return phase_.take_change(); }
   void counters(MissionCounters& out) const override;
 
   enum class State : std::uint8_t {
@@ -232,8 +233,7 @@ class CoverageMission final : public Mission {
   std::unique_ptr<std::uint8_t[]> mapped_;      // within mapped_wall_tolerance_m of a wall
 
   State state_ = State::Wait;
-  const char* phase_ = "wait";
-  const char* phase_change_ = nullptr;
+  MissionPhase phase_;
   double now_s_ = 0.0, t0_s_ = -1.0,
          state_t0_s_ = 0.0;  // this tick, the start, the state's start [s]
   bool have_last_ = false;

@@ -91,21 +91,13 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
 }
 
 void GotoMission::go(State s, const char* phase) {
-  if (s != state_ || phase != phase_) phase_change_ = phase;
+  phase_.set(phase, s != state_);
   state_ = s;
-  phase_ = phase;
-}
-
-const char* GotoMission::take_phase_change() {
-  const char* p = phase_change_;
-  phase_change_ = nullptr;
-  return p;
 }
 
 void GotoMission::enter(const MissionContext&) {
   state_ = State::Wait;
-  phase_ = "wait";
-  phase_change_ = "wait";
+  phase_.restart("wait");
   waypoints_.clear();
   cells_.clear();
   plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = 0;
@@ -119,7 +111,7 @@ MissionState GotoMission::state() const {
   MissionState s;
   s.id = static_cast<std::uint8_t>(state_);
   s.name = goto_state_name(state_);
-  s.phase = phase_;
+  s.phase = phase_.current();
   switch (state_) {
     case State::Wait:
       s.status = MissionStatus::Starting;

@@ -38,6 +38,7 @@
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/mission/MissionPhase.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 #include "firmware/planning/WavefrontPlanner.hpp"
 
@@ -100,7 +101,7 @@ class GotoMission final : public Mission {
   void exit() override {}
   MissionOutput update(const MissionContext& ctx) override;
   MissionState state() const override;
-  const char* take_phase_change() override;
+  const char* take_phase_change() override { return phase_.take_change(); }
   void counters(MissionCounters& out) const override;
   // The pose jumped: a path from the old pose is void. Driving (FOLLOW, BACKUP, APPROACH, ALIGN)
   // plans again to the same goal; a plan under way goes on (its wavefront grows from the goal).
@@ -147,8 +148,7 @@ class GotoMission final : public Mission {
   std::unique_ptr<std::uint8_t[]> plan_costs_;  // the master as planned on (goal area opened)
 
   State state_ = State::Wait;
-  const char* phase_ = "wait";
-  const char* phase_change_ = nullptr;
+  MissionPhase phase_;
   int plan_cx0_ = 0, plan_cy0_ = 0;  // global index of the planning grid's first cell
   std::uint32_t seen_updates_ = 0;
   StaticVector<GridCell, kMaxPathCells> cells_;

@@ -96,21 +96,13 @@ WaypointMission::WaypointMission(const WaypointConfig& cfg, const Footprint& foo
                  0.1) {}
 
 void WaypointMission::go(State s, const char* phase) {
-  if (s != state_ || phase != phase_) phase_change_ = phase;
+  phase_.set(phase, s != state_);
   state_ = s;
-  phase_ = phase;
-}
-
-const char* WaypointMission::take_phase_change() {
-  const char* p = phase_change_;
-  phase_change_ = nullptr;
-  return p;
 }
 
 void WaypointMission::enter(const MissionContext&) {
   state_ = State::Wait;
-  phase_ = "wait";
-  phase_change_ = "wait";
+  phase_.restart("wait");
   target_ = 0;
   reached_ = skipped_ = laps_done_ = emergency_stops_ = 0;
   lap_times_.clear();
@@ -123,7 +115,7 @@ MissionState WaypointMission::state() const {
   MissionState s;
   s.id = static_cast<std::uint8_t>(state_);
   s.name = waypoint_state_name(state_);
-  s.phase = phase_;
+  s.phase = phase_.current();
   switch (state_) {
     case State::Wait:
       s.status = MissionStatus::Starting;
@@ -346,7 +338,7 @@ MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pos
   }
 
   // After a skip: DRIVE for a tick at least (a phase change a tick is reported).
-  const bool skipped = !bypass_ && phase_ != kDrive;
+  const bool skipped = !bypass_ && phase_.current() != kDrive;
   if (skipped) go(State::Drive, kDrive);
   guard_.gather(pose, costmap_.master());
   const Vec2 to_target = (target - here) / dist;

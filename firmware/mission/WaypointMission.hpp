@@ -47,6 +47,7 @@
 #include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/mission/MissionPhase.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {
@@ -107,7 +108,7 @@ class WaypointMission final : public Mission {
   void exit() override {}
   MissionOutput update(const MissionContext& ctx) override;
   MissionState state() const override;
-  const char* take_phase_change() override;
+  const char* take_phase_change() override { return phase_.take_change(); }
   void counters(MissionCounters& out) const override;
 
   enum class State : std::uint8_t { Wait, Drive, Done, Failed };
@@ -154,8 +155,7 @@ class WaypointMission final : public Mission {
   const CostmapView& costmap_;
 
   State state_ = State::Wait;
-  const char* phase_ = "wait";
-  const char* phase_change_ = nullptr;
+  MissionPhase phase_;
   std::size_t target_ = 0;
   std::uint32_t reached_ = 0, skipped_ = 0, laps_done_ = 0, emergency_stops_ = 0;
   StaticVector<double, WaypointConfig::kMaxLaps> lap_times_;
