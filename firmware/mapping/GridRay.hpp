@@ -90,6 +90,11 @@ inline int steps_to_wrap(int p, int s, int n) {
 // of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
 // most three pieces with a linear storage index (+major stride every step, +minor stride when
 // the error overflows) and no wrap test per cell: the walk is the hot loop of lidar clearing.
+// Longest walk (major-axis steps) the closed-form walk of trace_line_from() takes; longer ones
+// step Bresenham's error. And the shift of its reciprocal.
+constexpr int kClosedFormMaxSteps = 4096;
+constexpr int kRecipShift = 38;
+
 template <typename Visit>
 void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool include_end,
                      Visit&& visit) {
@@ -119,8 +124,39 @@ void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool incl
   }
   const std::ptrdiff_t fix_a = x_major ? unwrap_x : unwrap_y, fix_b = x_major ? unwrap_y : unwrap_x;
   std::ptrdiff_t i = std::ptrdiff_t(row) * nx + col;
-  int err = da / 2;
   int k = 0;
+  if (da >= 1 && da <= kClosedFormMaxSteps) {
+    // The minor steps after k major steps in closed form, m(k) = (k db + c) / da with
+    // c = da - 1 - da / 2 (the m that keeps Bresenham's error in [0, da)), the division a
+    // multiply by a rounded-up reciprocal, exact for every numerator here (da <= 4096: numerators
+    // below 2^25, their product with da below 2^38 = 2^kRecipShift). Each cell's index then
+    // depends on the step count alone, not on the cell before: no chain of error updates and
+    // no branch for the predictor to miss.
+    const std::uint64_t recip =
+        ((std::uint64_t{1} << kRecipShift) + std::uint64_t(da) - 1) / std::uint64_t(da);
+    std::uint64_t num = std::uint64_t(da - 1 - da / 2);
+    std::ptrdiff_t ia = i;  // the index without the minor steps
+    for (;;) {
+      const int stop = std::min({steps, wrap_a, wrap_b});
+      for (int n = stop - k; n > 0; --n) {
+        const auto m = std::ptrdiff_t((num * recip) >> kRecipShift);
+        visit(std::size_t(ia + m * stride_b));
+        ia += stride_a;
+        num += std::uint64_t(db);
+      }
+      k = stop;
+      if (k == steps) return;
+      if (k == wrap_a) {
+        ia += fix_a;
+        wrap_a = steps;
+      }
+      if (k == wrap_b) {
+        ia += fix_b;
+        wrap_b = steps;
+      }
+    }
+  }
+  int err = da / 2;
   for (;;) {
     const int stop = std::min({steps, wrap_a, wrap_b});
     // A count down to zero: one instruction fewer per cell than comparing k with stop.

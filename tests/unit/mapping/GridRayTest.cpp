@@ -101,9 +101,17 @@ TEST(GridRayTest, PiecewiseWalkVisitsTheReferenceCellsInOrder) {
   struct Window {
     int nx, ny, ox, oy;
   };
-  const Window windows[] = {{16, 12, -20, 5},    {240, 240, 1234, -517}, {7, 9, 3, -4},
-                            {1, 5, -3, 2},       {6, 1, 4, 8},           {33, 17, 0, 0},
-                            {240, 240, -119, 61}};
+  const Window windows[] = {{16, 12, -20, 5},
+                            {240, 240, 1234, -517},
+                            {7, 9, 3, -4},
+                            {1, 5, -3, 2},
+                            {6, 1, 4, 8},
+                            {33, 17, 0, 0},
+                            {240, 240, -119, 61},
+                            // Rays longer than the closed-form walk takes (grid::
+                            // kClosedFormMaxSteps) step the error instead: both kinds.
+                            {4200, 4150, -2100, 17},
+                            {5000, 40, 3, -9}};
   std::mt19937 rng(42);
   int octants[8] = {};
   int rays = 0, zero_length = 0, wrapped = 0;
@@ -146,6 +154,40 @@ TEST(GridRayTest, PiecewiseWalkVisitsTheReferenceCellsInOrder) {
   EXPECT_GT(zero_length, 100);
   EXPECT_GT(wrapped, 1000);
   EXPECT_EQ(rays, 2 * 4000 * int(std::size(windows)));
+}
+
+TEST(GridRayTest, ClosedFormWalkMatchesTheReferenceForEveryLengthItTakes) {
+  // Every major-axis length up to grid::kClosedFormMaxSteps and one past it, with minor lengths
+  // from flat to diagonal, in all four directions: the reciprocal that replaces the division
+  // must give Bresenham's cells exactly (the largest numerators come with the longest rays).
+  constexpr int n = 8192;  // a window larger than every ray: no wraps, only the walk itself
+  std::vector<int> lengths;
+  for (int da = 1; da < grid::kClosedFormMaxSteps - 1; da += (da < 300 ? 1 : 97)) {
+    lengths.push_back(da);
+  }
+  for (int k = -1; k <= 1; ++k) lengths.push_back(grid::kClosedFormMaxSteps + k);
+  int lines = 0, longest = 0;
+  for (const int da : lengths) {
+    longest = std::max(longest, da);
+    for (const int db : {0, 1, da / 3, da / 2, da - 1, da}) {
+      for (const int dir : {0, 1, 2, 3}) {
+        const int sa = dir & 1 ? -1 : 1, sb = dir & 2 ? -1 : 1;
+        const int x1 = 4096 + sa * da, y1 = 4096 + sb * db;
+        std::vector<std::size_t> got;
+        grid::trace_line(4096, 4096, x1, y1, n, n, true, [&](std::size_t i) { got.push_back(i); });
+        ASSERT_EQ(got, reference_trace(4096, 4096, x1, y1, n, n, true))
+            << "da " << da << " db " << db << " direction " << dir;
+        // And y-major: the same line transposed.
+        got.clear();
+        grid::trace_line(4096, 4096, y1, x1, n, n, true, [&](std::size_t i) { got.push_back(i); });
+        ASSERT_EQ(got, reference_trace(4096, 4096, y1, x1, n, n, true))
+            << "transposed, da " << da << " db " << db << " direction " << dir;
+        lines += 2;
+      }
+    }
+  }
+  EXPECT_GT(lines, 15000);
+  EXPECT_EQ(longest, grid::kClosedFormMaxSteps + 1);
 }
 
 TEST(GridRayTest, ClipKeepsThePartInsideTheBox) {
