@@ -83,18 +83,18 @@ inline int steps_to_wrap(int p, int s, int n) {
   return s > 0 ? n - p : p + 1;
 }
 
-// trace_line (below) from the start cell's storage column and row (cx0 mod nx, cy0 mod ny), for
-// callers that know them without the two divisions, along (dx, dy) = (cx1 - cx0, cy1 - cy0).
-//
-// The line crosses at most one storage column wrap and one row wrap (its cells lie in a window
-// of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
-// most three pieces with a linear storage index (+major stride every step, +minor stride when
-// the error overflows) and no wrap test per cell: the walk is the hot loop of lidar clearing.
 // Longest walk (major-axis steps) the closed-form walk of trace_line_from() takes; longer ones
 // step Bresenham's error. And the shift of its reciprocal.
 constexpr int kClosedFormMaxSteps = 4096;
 constexpr int kRecipShift = 38;
 
+// trace_line (below) from the start cell's storage column and row (cx0 mod nx, cy0 mod ny), for
+// callers that know them without the two divisions, along (dx, dy) = (cx1 - cx0, cy1 - cy0).
+//
+// The line crosses at most one storage column wrap and one row wrap (its cells lie in a window
+// of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
+// most three pieces with a linear storage index (+major stride every step, the minor steps in
+// closed form) and no wrap test per cell: the walk is the hot loop of lidar clearing.
 template <typename Visit>
 void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool include_end,
                      Visit&& visit) {
