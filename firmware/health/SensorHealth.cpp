@@ -47,38 +47,22 @@ double ScanHealth::valid_fraction() const {
 
 FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) {
   const int step = cfg_.sample_step_px > 0 ? cfg_.sample_step_px : 1;
-  // Per channel in registers, a row pointer and a byte stride, and the hash in two FNV chains
-  // (even and odd samples of a row) so one multiply's latency does not wait for the last.
-  unsigned lo0 = 255, lo1 = 255, lo2 = 255, hi0 = 0, hi1 = 0, hi2 = 0;
-  std::uint64_t h0 = 0xcbf29ce484222325ULL, h1 = 0x84222325cbf29ce4ULL;  // FNV offset basis
-  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
-  const std::size_t row_bytes = std::size_t(frame.width) * 3, du = std::size_t(step) * 3;
-  const auto sample = [&](const std::uint8_t* p, std::uint64_t& h) {
-    const unsigned b = p[0], g = p[1], r = p[2];
-    lo0 = b < lo0 ? b : lo0;
-    lo1 = g < lo1 ? g : lo1;
-    lo2 = r < lo2 ? r : lo2;
-    hi0 = b > hi0 ? b : hi0;
-    hi1 = g > hi1 ? g : hi1;
-    hi2 = r > hi2 ? r : hi2;
-    h = (h ^ (std::uint64_t(b) | std::uint64_t(g) << 8 | std::uint64_t(r) << 16)) * kPrime;
-  };
-  if (frame.width > 0) {
-    for (int v = step / 2; v < frame.height; v += step) {
-      const std::uint8_t* row = frame.bgr.data() + std::size_t(v) * row_bytes;
-      const std::uint8_t* const end = row + row_bytes;
-      const std::uint8_t* p = row + std::size_t(step / 2) * 3;
-      for (; p + du < end; p += 2 * du) {
-        sample(p, h0);
-        sample(p + du, h1);
+  int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV offset basis
+  for (int v = step / 2; v < frame.height; v += step) {
+    for (int u = step / 2; u < frame.width; u += step) {
+      const std::uint8_t* p = frame.pixel(u, v);
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = p[c] < lo[c] ? p[c] : lo[c];
+        hi[c] = p[c] > hi[c] ? p[c] : hi[c];
       }
-      if (p < end) sample(p, h0);
+      // One multiply per sample: the three bytes as one word.
+      h = (h ^ (std::uint64_t(p[0]) | std::uint64_t(p[1]) << 8 | std::uint64_t(p[2]) << 16)) *
+          0x100000001b3ULL;
     }
   }
-  const std::uint64_t h = h0 ^ (h1 * kPrime);
-  const int spreads[3] = {int(hi0) - int(lo0), int(hi1) - int(lo1), int(hi2) - int(lo2)};
   spread_ = 0;
-  for (int c = 0; c < 3; ++c) spread_ = spreads[c] > spread_ ? spreads[c] : spread_;
+  for (int c = 0; c < 3; ++c) spread_ = hi[c] - lo[c] > spread_ ? hi[c] - lo[c] : spread_;
 
   const bool changed = !have_hash_ || h != hash_;
   hash_ = h;
