@@ -1,13 +1,12 @@
 #include "loader/CostmapPng.hpp"
 
-#include <png.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "loader/AtomicWrite.hpp"
+#include "loader/PngEncode.hpp"
 
 namespace carril::loader {
 
@@ -75,25 +74,10 @@ std::optional<std::string> export_costmap_png(const std::string& path, const std
       dst[3 * x + 2] = c[2];
     }
   }
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  image.width = static_cast<png_uint_32>(width);
-  image.height = static_cast<png_uint_32>(height);
-  image.format = PNG_FORMAT_RGB;
-  // First call sizes the buffer, second writes into it.
-  png_alloc_size_t size = 0;
-  if (png_image_write_to_memory(&image, nullptr, &size, 0, rgb.data(), 0, nullptr) == 0) {
-    const std::string msg = image.message;
-    png_image_free(&image);
-    return path + ": libpng: " + msg;
+  std::string bytes;
+  if (auto err = encode_png(rgb.data(), int(width), int(height), PngPixels::Rgb, 0, bytes)) {
+    return path + ": " + *err;
   }
-  std::string bytes(size, '\0');
-  if (png_image_write_to_memory(&image, bytes.data(), &size, 0, rgb.data(), 0, nullptr) == 0) {
-    const std::string msg = image.message;
-    png_image_free(&image);
-    return path + ": libpng: " + msg;
-  }
-  bytes.resize(size);
   return write_file_atomically(path, bytes);
 }
 

@@ -1,11 +1,12 @@
 #include "host_sim/output/PlotUtil.hpp"
 
-#include <png.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <vector>
+
+#include "loader/PngEncode.hpp"
 
 namespace carril::sim::plot {
 
@@ -56,36 +57,19 @@ std::string tick_label(double v, double step) {
   return buf;
 }
 
-// libpng's simplified API, not cv::imencode: OpenCV's image codecs pull some 130 shared
-// libraries (GDAL, GDCM, HEIF, ...) into every carril_sim start, which cost more than a short
-// simulated run (0.2 s of 0.02 s start-up).
 bool encode_png(const cv::Mat& img, std::string& png, std::string& error) {
   if (img.depth() != CV_8U || (img.channels() != 1 && img.channels() != 3 && img.channels() != 4)) {
     error = "PNG encoding failed: not an 8-bit grey, BGR or BGRA image";
     return false;
   }
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  image.width = static_cast<png_uint_32>(img.cols);
-  image.height = static_cast<png_uint_32>(img.rows);
-  image.format = img.channels() == 1   ? PNG_FORMAT_GRAY
-                 : img.channels() == 3 ? PNG_FORMAT_BGR
-                                       : PNG_FORMAT_BGRA;
-  const auto stride = static_cast<png_int_32>(img.step[0]);  // in components: 8-bit samples
-  // The first call sizes the buffer, the second writes into it.
-  png_alloc_size_t size = 0;
-  if (png_image_write_to_memory(&image, nullptr, &size, 0, img.data, stride, nullptr) == 0) {
-    error = std::string("PNG encoding failed: libpng: ") + image.message;
-    png_image_free(&image);
+  const loader::PngPixels format = img.channels() == 1   ? loader::PngPixels::Gray
+                                   : img.channels() == 3 ? loader::PngPixels::Bgr
+                                                         : loader::PngPixels::Bgra;
+  if (auto err = loader::encode_png(img.data, img.cols, img.rows, format,
+                                    static_cast<std::ptrdiff_t>(img.step[0]), png)) {
+    error = *err;
     return false;
   }
-  png.assign(size, '\0');
-  if (png_image_write_to_memory(&image, png.data(), &size, 0, img.data, stride, nullptr) == 0) {
-    error = std::string("PNG encoding failed: libpng: ") + image.message;
-    png_image_free(&image);
-    return false;
-  }
-  png.resize(size);
   return true;
 }
 

@@ -29,7 +29,7 @@ double nice_step(double range, int target);
 // `%g` of v, with values within a hair of zero printed as 0 (no "-0", no "1e-17").
 std::string tick_label(double v, double step);
 
-// PNG bytes of `img`; false with `error` set when OpenCV refuses.
+// PNG bytes of `img` (8-bit grey, BGR or BGRA; loader::encode_png); false with `error` set.
 bool encode_png(const cv::Mat& img, std::string& png, std::string& error);
 
 }  // namespace carril::sim::plot
