@@ -124,43 +124,48 @@ void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool incl
   }
   const std::ptrdiff_t fix_a = x_major ? unwrap_x : unwrap_y, fix_b = x_major ? unwrap_y : unwrap_x;
   std::ptrdiff_t i = std::ptrdiff_t(row) * nx + col;
-  int k = 0;
+  // The walk in pieces between the wrap steps: walk(n) visits n cells and moves i on, and at a
+  // wrap step (maybe both) the linear index, one row or column off the storage, is put back.
+  const auto in_pieces = [&](auto&& walk) {
+    for (int k = 0;;) {
+      const int stop = std::min({steps, wrap_a, wrap_b});
+      walk(stop - k);
+      k = stop;
+      if (k == steps) return;
+      if (k == wrap_a) {
+        i += fix_a;
+        wrap_a = steps;
+      }
+      if (k == wrap_b) {
+        i += fix_b;
+        wrap_b = steps;
+      }
+    }
+  };
   if (da >= 1 && da <= kClosedFormMaxSteps) {
     // The minor steps after k major steps in closed form, m(k) = (k db + c) / da with
     // c = da - 1 - da / 2 (the m that keeps Bresenham's error in [0, da)), the division a
     // multiply by a rounded-up reciprocal, exact for every numerator here (da <= 4096: numerators
     // below 2^25, their product with da below 2^38 = 2^kRecipShift). Each cell's index then
     // depends on the step count alone, not on the cell before: no chain of error updates and
-    // no branch for the predictor to miss.
+    // no branch for the predictor to miss. Here i is the index without the minor steps.
     const std::uint64_t recip =
         ((std::uint64_t{1} << kRecipShift) + std::uint64_t(da) - 1) / std::uint64_t(da);
     std::uint64_t num = std::uint64_t(da - 1 - da / 2);
-    std::ptrdiff_t ia = i;  // the index without the minor steps
-    for (;;) {
-      const int stop = std::min({steps, wrap_a, wrap_b});
-      for (int n = stop - k; n > 0; --n) {
+    in_pieces([&](int n) {
+      for (; n > 0; --n) {
         const auto m = std::ptrdiff_t((num * recip) >> kRecipShift);
-        visit(std::size_t(ia + m * stride_b));
-        ia += stride_a;
+        visit(std::size_t(i + m * stride_b));
+        i += stride_a;
         num += std::uint64_t(db);
       }
-      k = stop;
-      if (k == steps) return;
-      if (k == wrap_a) {
-        ia += fix_a;
-        wrap_a = steps;
-      }
-      if (k == wrap_b) {
-        ia += fix_b;
-        wrap_b = steps;
-      }
-    }
+    });
+    return;
   }
   int err = da / 2;
-  for (;;) {
-    const int stop = std::min({steps, wrap_a, wrap_b});
+  in_pieces([&](int n) {
     // A count down to zero: one instruction fewer per cell than comparing k with stop.
-    for (int n = stop - k; n > 0; --n) {
+    for (; n > 0; --n) {
       visit(std::size_t(i));
       i += stride_a;
       err -= db;
@@ -169,18 +174,7 @@ void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool incl
         i += stride_b;
       }
     }
-    k = stop;
-    if (k == steps) return;
-    // k is a wrap step (maybe both): the linear index ran one row or column off the storage.
-    if (k == wrap_a) {
-      i += fix_a;
-      wrap_a = steps;
-    }
-    if (k == wrap_b) {
-      i += fix_b;
-      wrap_b = steps;
-    }
-  }
+  });
 }
 
 // Calls visit(storage_index) for the cells on the Bresenham line from global cell (cx0, cy0) to
