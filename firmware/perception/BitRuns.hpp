@@ -23,6 +23,24 @@ inline void set_range(std::uint64_t* row, int a, int b) {
   }
 }
 
+// 3-wide AND (erode) or OR (dilate) of a row of s words into out: the horizontal pass of a 3x3
+// erosion or dilation. Cells outside the row count as set for erosion, clear for dilation (as
+// cv::erode and cv::dilate's default border); `last` marks the valid bits of the last word.
+template <bool kErode>
+void hpass3(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out) {
+  const std::uint64_t fill = kErode ? kAll : 0;
+  std::uint64_t prev = fill;
+  std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
+  for (int k = 0; k < s; ++k) {
+    const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
+    const std::uint64_t left = (cur << 1) | (prev >> 63);   // bit x holds cell x - 1
+    const std::uint64_t right = (cur >> 1) | (next << 63);  // bit x holds cell x + 1
+    out[k] = kErode ? (cur & left & right) : (cur | left | right);
+    prev = cur;
+    cur = next;
+  }
+}
+
 // Finds runs of set cells along a row fed one word at a time, left to right.
 class RunScanner {
  public:

@@ -44,20 +44,7 @@ void morph(const BitImage& src, const BitImage& dst, const BitImage& tmp) {
   }
   if (empty) return;  // empty in, empty out
   const std::uint64_t last = valid_bits(src.width, s - 1);
-  for (int y = y0; y <= y1; ++y) {
-    const std::uint64_t* r = src.row(y);
-    std::uint64_t* t = tmp.row(y);
-    std::uint64_t prev = fill;
-    std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
-    for (int k = 0; k < s; ++k) {
-      const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
-      const std::uint64_t left = (cur << 1) | (prev >> 63);   // bit x holds cell x - 1
-      const std::uint64_t right = (cur >> 1) | (next << 63);  // bit x holds cell x + 1
-      t[k] = kErode ? (cur & left & right) : (cur | left | right);
-      prev = cur;
-      cur = next;
-    }
-  }
+  for (int y = y0; y <= y1; ++y) bits::hpass3<kErode>(src.row(y), s, last, tmp.row(y));
   // A neighbour row outside the image is `fill`; one inside it but outside [y0, y1] is empty.
   const auto tmp_row = [&](int y, std::uint64_t& constant) -> const std::uint64_t* {
     constant = y < 0 || y >= h ? fill : 0;

@@ -18,23 +18,6 @@ using bits::set_range;
 using bits::valid_bits;
 constexpr int kMaxWords = (hal::kMaxImageWidth + 63) / 64;
 
-// 3-wide AND (erode) or OR (dilate) along a row of s words; outside the row counts as `fill`
-// (`last` marks the valid bits of the last word).
-template <bool kErode>
-void hpass(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out) {
-  const std::uint64_t fill = kErode ? kAll : 0;
-  std::uint64_t prev = fill;
-  std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
-  for (int k = 0; k < s; ++k) {
-    const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
-    const std::uint64_t left = (cur << 1) | (prev >> 63);
-    const std::uint64_t right = (cur >> 1) | (next << 63);
-    out[k] = kErode ? (cur & left & right) : (cur | left | right);
-    prev = cur;
-    cur = next;
-  }
-}
-
 // 5x5 erosion or dilation of rows v0..v1, words k0..k1 of a full-width mask: the thesis's two
 // 3x3 passes in one. Rows and columns outside the image count as `fill` (set for erosion, as
 // cv::erode); rows and words outside the window inside the image are clear (nothing of the blob
@@ -259,8 +242,8 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
         di[r][k] = 0;
       }
     } else {
-      hpass<true>(blob_row(yy), cs, last, er[r]);
-      hpass<false>(blob_row(yy), cs, last, di[r]);
+      bits::hpass3<true>(blob_row(yy), cs, last, er[r]);
+      bits::hpass3<false>(blob_row(yy), cs, last, di[r]);
     }
   };
   pass_row(cy0 - 1);
