@@ -40,7 +40,6 @@ TaskRates task_rates(const FirmwareConfig& c) {
   r.lidar_hz = std::min(c.lidar.rate_hz, c.rate_hz);
   r.scan_offset = 1 % TaskTable::divisor_for(c.rate_hz, r.lidar_hz);
   r.telemetry_offset = TaskTable::divisor_for(c.rate_hz, r.telemetry_hz) - 1;
-  r.mapping_hz = c.mapping.enabled ? c.rate_hz : 0.0;
   return r;
 }
 

@@ -51,9 +51,8 @@ struct FirmwareTelemetry {
 // on the last tick of its period.
 struct TaskRates {
   double control_hz = 0.0, camera_hz = 0.0, lidar_hz = 0.0;  // [Hz]
-  double mapping_hz = 0.0;     // every tick when a costmap is built, else 0 (no task) [Hz]
-  double telemetry_hz = 10.0;  // [Hz]
-  std::uint32_t scan_offset = 0, telemetry_offset = 0;  // [ticks]
+  double telemetry_hz = 10.0;                                // [Hz]
+  std::uint32_t scan_offset = 0, telemetry_offset = 0;       // [ticks]
 };
 TaskRates task_rates(const FirmwareConfig& c);
 

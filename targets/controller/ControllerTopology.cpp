@@ -46,6 +46,10 @@ fw::Status declare_tasks(fw::LineFirmware& f) {
                                                &f.perception),
       TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
                                                 &f.obstacle_sensing),
+      // The costmap from the lidar (and the map), every tick as in the simulator's table: goto
+      // and coverage plan on it, follow_line's bypass checks its lanes on it. Returns at once
+      // when the configuration builds no costmap.
+      TaskSpec::bind<&fw::Mapping::run>("mapping", r.control_hz, 0, us(400), &f.mapping),
       TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(80), &f.runner),
       TaskSpec::bind<&fw::MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
       TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
