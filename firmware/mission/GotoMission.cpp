@@ -41,6 +41,7 @@ Status GotoConfig::validate() const {
       .range("backup_speed_mps", backup_speed_mps, 0.01, 1.0, "m/s")
       .range("max_recoveries", double(max_recoveries), 0.0, 1000.0, "stops")
       .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
+      .range("vff_fallback_m", vff_fallback_m, 0.0, 10.0, "m")
       .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
       .range("goal.x", goal.x, -1000.0, 1000.0, "m")
       .range("goal.y", goal.y, -1000.0, 1000.0, "m")
@@ -100,7 +101,8 @@ void GotoMission::enter(const MissionContext&) {
   phase_.restart("wait");
   waypoints_.clear();
   cells_.clear();
-  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = 0;
+  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = vff_fallbacks_ = 0;
+  vff_held_ = false;
   fault_ = Fault::None;
   goal_index_ = 0;
   goal_ = cfg_.goal_at(0);
@@ -142,6 +144,7 @@ void GotoMission::counters(MissionCounters& out) const {
   out.push_back({"replans", replans_});
   out.push_back({"emergency_stops", emergency_stops_});
   out.push_back({"goals_reached", goals_reached_});
+  out.push_back({"vff_fallbacks", vff_fallbacks_});
 }
 
 void GotoMission::relocalised() {
@@ -317,6 +320,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
   progress_ = 0;
   pure_pursuit_.reset();
   vff_.reset();
+  vff_held_ = false;
   seen_updates_ = costmap_.updates();
   go(State::Follow, "follow");
   return {};
@@ -412,9 +416,26 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
   MissionOutput out;
   bool at_end = false;
   if (cfg_.follower == GotoFollower::Vff) {
+    // Both run every tick, so each keeps its place on the path; VFF drives unless its heading
+    // has met a lethal cell within the last vff_fallback_m.
+    const Twist pp = pure_pursuit_.update(pose, waypoints_.begin(), waypoints_.size());
     out.motion.twist = vff_.update(pose, waypoints_.begin(), waypoints_.size(), costmap_.master());
-    progress_ = vff_.progress();
-    at_end = vff_.at_end();
+    const Vec2 here(pose.x, pose.y);
+    if (vff_held_ && (here - vff_held_at_).norm() >= cfg_.vff_fallback_m) vff_held_ = false;
+    if (!vff_held_ && cfg_.vff_fallback_m > 0.0 && out.motion.twist.vx > 0.0 &&
+        lethal_ahead(pose)) {
+      vff_held_ = true;
+      vff_held_at_ = here;
+      ++vff_fallbacks_;
+    }
+    if (vff_held_) {
+      out.motion.twist = pp;
+      progress_ = pure_pursuit_.progress();
+      at_end = pure_pursuit_.at_end();
+    } else {
+      progress_ = vff_.progress();
+      at_end = vff_.at_end();
+    }
   } else {
     out.motion.twist = pure_pursuit_.update(pose, waypoints_.begin(), waypoints_.size());
     progress_ = pure_pursuit_.progress();

@@ -75,6 +75,11 @@ struct GotoConfig {
   // With a lethal cell just ahead, a follower turning at least this fast turns in place instead
   // of stopping [rad/s].
   double turn_in_place_min_radps = 0.2;
+  // With the VFF follower: once its pushed heading has met a lethal cell just ahead, the path's
+  // pure-pursuit command drives for this far (the push can turn the robot up to
+  // asin(vff.max_repulsion_ratio) off the path, in a gap between two obstacles into one); 0:
+  // VFF alone [m].
+  double vff_fallback_m = 0.5;
   // The terrain round the goal may still read lethal from afar (a crest hides what lies beyond
   // it): the planner takes the cells this close to the goal as passable, unless the 2D lidar has
   // seen something on the goal itself (then the goal is invalid) [m].
@@ -157,6 +162,9 @@ class GotoMission final : public Mission {
   std::uint32_t plans_ = 0, replans_ = 0, emergency_stops_ = 0;
   std::uint32_t stops_in_a_row_ = 0;
   Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
+  bool vff_held_ = false;  // pure pursuit drives in place of VFF (vff_fallback_m)
+  Vec2 vff_held_at_{0.0, 0.0};
+  std::uint32_t vff_fallbacks_ = 0;
   Fault fault_ = Fault::None;
   std::size_t goal_index_ = 0;
   Pose2 goal_;

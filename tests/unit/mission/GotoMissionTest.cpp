@@ -235,5 +235,42 @@ TEST(GotoMissionTest, GoalOnAnObstacleOrOutsideTheCostmapIsInvalid) {
   EXPECT_EQ(outside.run(2.0).fault, Fault::GoalInvalid);
 }
 
+// VFF beside a wall: the wall's push turns the robot's heading off the path, toward lethal cells
+// the path passes 0.35 m away (here a row the master has not inflated; in goto_room_vff the
+// noisy cells at a box's corner). With VFF alone it stops with those cells just ahead, backs up,
+// replans the same path and stops again until the recoveries run out (no_path: goto_room_vff
+// ended so on 5 of 8 seeds). With the handover, pure pursuit drives vff_fallback_m along the path
+// each time and the robot gets there without a stop.
+TEST(GotoMissionTest, VffPushedTowardLethalCellsHandsOverToThePathForAStretch) {
+  struct Result {
+    GotoMission::State state;
+    std::uint32_t stops, fallbacks;
+    double row_gap;
+  };
+  const auto run = [](double fallback_m) {
+    Rig r(Pose2{2.5, 0.0, 0.0});
+    r.cfg.follower = GotoFollower::Vff;
+    r.cfg.vff_fallback_m = fallback_m;
+    r.costmap.wall(-2.0, -0.75, 2.5, -0.55);
+    for (double x = 0.6; x < 2.1; x += 0.05) r.costmap.bare_lethal(x, 0.45);
+    r.start();
+    r.run(60.0, 0.6, 0.45, 2.1, 0.5);
+    MissionCounters c;
+    r.mission->counters(c);
+    EXPECT_STREQ(c[2].name, "emergency_stops");
+    EXPECT_STREQ(c[4].name, "vff_fallbacks");
+    return Result{r.mission->current(), c[2].value, c[4].value, r.min_wall_distance};
+  };
+  const Result with = run(0.5);
+  EXPECT_EQ(with.state, GotoMission::State::Done);
+  EXPECT_EQ(with.stops, 0U);
+  EXPECT_GE(with.fallbacks, 1U);
+  EXPECT_GT(with.row_gap, 0.25);    // the body never reached the row
+  const Result without = run(0.0);  // 0: VFF alone
+  EXPECT_EQ(without.state, GotoMission::State::Failed);
+  EXPECT_EQ(without.stops, GotoConfig{}.max_recoveries + 1);
+  EXPECT_EQ(without.fallbacks, 0U);
+}
+
 }  // namespace
 }  // namespace carril::fw
