@@ -61,7 +61,9 @@ struct GotoConfig {
   PurePursuitConfig pure_pursuit;
   VffConfig vff;
   PathTrackerConfig tracker;
-  double goal_tolerance_m = 0.08;   // creep until this close (the goal is 0.1 m) [m]
+  // Creep until this close [m]. Scenarios ask for 0.1 m of the true pose; at 0.08 the odometry's
+  // 3 to 5 cm after a 14 m drive took goto_dead_end past it on 5 of 8 seeds.
+  double goal_tolerance_m = 0.05;
   double yaw_tolerance_rad = 0.07;  // turn until this close (the goal is 10 deg) [rad]
   double approach_m = 0.35;         // the last stretch, driven onto the goal [m]
   std::uint32_t plan_expansions_per_tick =
