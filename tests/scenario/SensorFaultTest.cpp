@@ -146,8 +146,10 @@ TEST(CameraHealthControl, WithoutTheFrozenRuleTheRobotDrivesOnBlind) {
         c.camera.health.frozen_motion_m = 10.0;
         c.camera.health.frozen_turn_rad = 6.3;
       });
-  EXPECT_NE(o.summary.fault, "camera_frozen");
-  EXPECT_GT(o.fault_s < 0 ? 1e9 : o.fault_s - o.inject_s, 1.0);  // still going a second later
+  // Still going a second later: no fault, camera_frozen included, within the watched second.
+  // (Later in the run a robot driving blind may well travel 10 m or turn 6.3 rad, and then even
+  // these limits stop it: that depends on where the frozen image steers it, not on the rule.)
+  EXPECT_GT(o.fault_s < 0 ? 1e9 : o.fault_s - o.inject_s, 1.0);
 }
 
 TEST(ImuHealth, StuckImuStopsTheRobot) {
