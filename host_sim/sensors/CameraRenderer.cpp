@@ -7,6 +7,7 @@
 
 #include "host_sim/scenario/ColorCheck.hpp"
 #include "host_sim/sensors/ConvexFill.hpp"
+#include "host_sim/sensors/Normal.hpp"
 #include "host_sim/sensors/SaturatingAdd.hpp"
 #include "host_sim/sensors/TapeWear.hpp"
 
@@ -181,7 +182,7 @@ CameraRenderer::CameraRenderer(const Scenario& scenario, std::uint64_t seed)
     // A table of noise samples, read from a random offset each frame: per-pixel Gaussian draws
     // would cost more than the rest of the simulation together.
     // Each sample as its positive and its negative part, for saturating byte arithmetic.
-    std::normal_distribution<double> n(0.0, noise_std_);
+    const Normal n(0.0, noise_std_);
     noise_up_.resize(1 << 20);
     noise_down_.resize(1 << 20);
     for (std::size_t i = 0; i < noise_up_.size(); ++i) {

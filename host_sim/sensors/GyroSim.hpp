@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <random>
 
+#include "host_sim/sensors/Normal.hpp"
 #include "loader/RobotSpec.hpp"
 
 namespace carril::sim {
@@ -23,7 +24,7 @@ class GyroSim {
  private:
   double noise_, bias_;
   std::mt19937_64 rng_;
-  std::normal_distribution<double> gauss_{0.0, 1.0};
+  Normal gauss_{0.0, 1.0};
 };
 
 }  // namespace carril::sim

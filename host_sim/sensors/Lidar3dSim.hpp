@@ -10,6 +10,7 @@
 
 #include "firmware/core/Status.hpp"
 #include "hal/PointCloud.hpp"
+#include "host_sim/sensors/Normal.hpp"
 #include "host_sim/world/HeightQuery.hpp"
 #include "loader/RobotSpec.hpp"
 
@@ -67,7 +68,7 @@ class Lidar3dSim {
   std::uint32_t seq_ = 0;
   std::uint64_t queries_ = 0;
   std::mt19937_64 rng_;
-  std::normal_distribution<double> noise_{0.0, 1.0};
+  Normal noise_{0.0, 1.0};
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
   // Unit beam directions in the sensor frame: ring elevation (sin, cos), azimuth (cos, sin).
   std::vector<double> sin_el_, cos_el_, cos_az_, sin_az_;

@@ -9,6 +9,7 @@
 
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/sensors/Normal.hpp"
 #include "host_sim/sensors/RayCaster.hpp"
 #include "host_sim/world/SimWorld.hpp"
 
@@ -22,7 +23,7 @@ class LidarSim {
  private:
   LidarSpec spec_;
   std::mt19937_64 rng_;
-  std::normal_distribution<double> noise_;
+  Normal noise_;
   std::mt19937_64 drop_rng_;  // its own: dropping beams does not move the noise's draws
   std::uniform_real_distribution<double> drop_{0.0, 1.0};
   RayCaster caster_;  // the world's fixtures, gathered once per scan

@@ -9,6 +9,7 @@
 
 #include "hal/Types.hpp"
 #include "host_sim/scenario/Scenario.hpp"
+#include "host_sim/sensors/Normal.hpp"
 
 namespace carril::sim {
 
@@ -25,7 +26,7 @@ class WheelEncoderSim {
   static constexpr hal::TimeNs kSlipPeriodNs = 100'000'000;
   OdometryErrorSpec spec_;
   std::mt19937_64 rng_;
-  std::normal_distribution<double> gauss_{0.0, 1.0};
+  Normal gauss_{0.0, 1.0};
   struct Wheel {
     bool primed = false;
     double last_true_pos = 0.0, pos = 0.0;
