@@ -415,6 +415,7 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
   }
   MissionOutput out;
   bool at_end = false;
+  const bool front_lethal = lethal_ahead(pose);  // for the handover and the stop below
   if (cfg_.follower == GotoFollower::Vff) {
     // Both run every tick, so each keeps its place on the path; VFF drives unless its heading
     // has met a lethal cell within the last vff_fallback_m.
@@ -422,8 +423,7 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     out.motion.twist = vff_.update(pose, waypoints_.begin(), waypoints_.size(), costmap_.master());
     const Vec2 here(pose.x, pose.y);
     if (vff_held_ && (here - vff_held_at_).norm() >= cfg_.vff_fallback_m) vff_held_ = false;
-    if (!vff_held_ && cfg_.vff_fallback_m > 0.0 && out.motion.twist.vx > 0.0 &&
-        lethal_ahead(pose)) {
+    if (!vff_held_ && cfg_.vff_fallback_m > 0.0 && out.motion.twist.vx > 0.0 && front_lethal) {
       vff_held_ = true;
       vff_held_at_ = here;
       ++vff_fallbacks_;
@@ -441,7 +441,7 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     progress_ = pure_pursuit_.progress();
     at_end = pure_pursuit_.at_end();
   }
-  if (out.motion.twist.vx > 0.0 && lethal_ahead(pose)) {
+  if (out.motion.twist.vx > 0.0 && front_lethal) {
     // Turning toward the path: do it in place (the front is what is close). Heading straight
     // on into the cell: stop, back off and plan again.
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {

@@ -86,8 +86,6 @@ class Normal {
  public:
   explicit Normal(double mean = 0.0, double stddev = 1.0) : mean_(mean), stddev_(stddev) {}
   double operator()(std::mt19937_64& g) const { return mean_ + stddev_ * ziggurat::standard(g); }
-  double mean() const { return mean_; }
-  double stddev() const { return stddev_; }
 
  private:
   double mean_, stddev_;
