@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mapping/GridRay.hpp"
@@ -19,6 +20,30 @@ void min_plus_pair(std::int16_t* __restrict d2, const std::int16_t* __restrict l
     const auto v = std::int16_t(std::min(left[i], right[i]) + dd);
     d2[i] = std::min(d2[i], v);
   }
+}
+static_assert((InflationLayer::kMaxRadiusCells + 1) * (InflationLayer::kMaxRadiusCells + 1) +
+                      InflationLayer::kMaxRadiusCells * InflationLayer::kMaxRadiusCells <=
+                  32767,
+              "d2 = g^2 + dx^2 must fit an int16");
+
+// out[i] = in[i]^2 for n bytes: the squared vertical distances of a row, in window order.
+void square_bytes(const std::uint8_t* __restrict in, std::int16_t* __restrict out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = std::int16_t(int(in[i]) * int(in[i]));
+}
+
+// The first column from `i` on whose w is below `far` (w never exceeds it), or n. Four columns
+// a step while all four are far: most of a row is.
+int skip_far(const std::int16_t* w, int i, int n, std::int16_t far) {
+  std::uint64_t all_far = std::uint16_t(far);
+  all_far |= all_far << 16;
+  all_far |= all_far << 32;
+  for (; i + 4 <= n; i += 4) {
+    std::uint64_t four = 0;
+    std::memcpy(&four, w + i, sizeof four);
+    if (four != all_far) break;
+  }
+  while (i < n && w[i] >= far) ++i;
+  return i;
 }
 }  // namespace
 
@@ -120,30 +145,45 @@ void InflationLayer::apply(const RollingGrid<std::uint8_t>& src, RollingGrid<std
       continue;
     }
     std::int16_t* w = g2 + R;  // w[lx] for window column lx
-    for (int lx = 0; lx < head; ++lx) w[lx] = sq[grow[off + lx]];
-    for (int lx = head; lx < nx; ++lx) w[lx] = sq[grow[lx - head]];
-    // Only columns within R of one with a lethal cell within R rows can cost anything: elsewhere
-    // d2 is `far`, the table gives 0 and the cell keeps its source value. A wall across the rows
-    // (the usual case) leaves a few tens of columns to do, not the row.
-    int lo = 0, hi = nx - 1;
-    while (w[lo] >= far) ++lo;  // stops: `nearest` above is below the cap
-    while (w[hi] >= far) --hi;
-    const int a = lo - R > 0 ? lo - R : 0, b = hi + R < nx - 1 ? hi + R : nx - 1;
-    for (int lx = a; lx <= b; ++lx) d2[lx] = w[lx];
-    for (int dx = 1; dx <= R; ++dx) {
-      const std::int16_t dd = sq[dx];
-      min_plus_pair(d2 + a, w + a - dx, w + a + dx, dd, b - a + 1);
-    }
-    // Costs back to storage order, combined with the source cell.
+    // g^2 as a widening multiply the compiler vectorises (cap^2 fits: R <= kMaxRadiusCells).
+    square_bytes(grow + off, w, head);
+    square_bytes(grow, w + head, nx - head);
     if (out != s) std::copy(s, s + unx, out);
     const auto combine = [&](int sx, int lx) {
       const std::uint8_t c = table[d2[lx]];
       const std::uint8_t old = s[sx];
       out[sx] = old == cost::kUnknown ? (c > 0 ? c : old) : std::max(old, c);
     };
-    // Window column lx is storage column off + lx below `head`, lx - head from there on.
-    for (int lx = a; lx <= b && lx < head; ++lx) combine(off + lx, lx);
-    for (int lx = a > head ? a : head; lx <= b; ++lx) combine(lx - head, lx);
+    // Only columns within R of one with a lethal cell within R rows can cost anything: elsewhere
+    // d2 is `far`, the table gives 0 and the cell keeps its source value. So each cluster of such
+    // columns is done on its own, widened by R (clusters whose widenings touch go together): two
+    // walls on either side of the robot leave two bands of a few tens of columns, not the row.
+    int lx = 0;
+    while (lx < nx) {
+      lx = skip_far(w, lx, nx, far);
+      if (lx >= nx) break;
+      const int lo = lx;
+      int hi = lx, gap = 0;
+      for (++lx; lx < nx && gap <= 2 * R; ++lx) {
+        if (w[lx] < far) {
+          hi = lx;
+          gap = 0;
+        } else {
+          ++gap;
+        }
+      }
+      lx = hi + 1;
+      const int a = lo - R > 0 ? lo - R : 0, b = hi + R < nx - 1 ? hi + R : nx - 1;
+      for (int k = a; k <= b; ++k) d2[k] = w[k];
+      for (int dx = 1; dx <= R; ++dx) {
+        const std::int16_t dd = sq[dx];
+        min_plus_pair(d2 + a, w + a - dx, w + a + dx, dd, b - a + 1);
+      }
+      // Costs back to storage order: window column k is storage column off + k below `head`,
+      // k - head from there on.
+      for (int k = a; k <= b && k < head; ++k) combine(off + k, k);
+      for (int k = a > head ? a : head; k <= b; ++k) combine(k - head, k);
+    }
   }
 }
 

@@ -147,6 +147,40 @@ TEST(InflationLayerTest, MatchesBruteForceOnRandomGrids) {
   }
 }
 
+// Pairs of lethal cells 1 to 4R + 4 columns apart, each pair in its own band of rows: the rows
+// hold two clusters of costed columns whose widenings overlap, touch, or lie apart (each cluster
+// is inflated on its own), on a window whose storage wraps inside the pairs.
+TEST(InflationLayerTest, ClustersOfCostedColumnsAreEachInflated) {
+  const InflationConfig c = default_config();  // R = 11 cells
+  const int R = 11, n = 120;
+  for (int ox : {0, -37, 61}) {
+    InflationLayer inf;
+    ASSERT_TRUE(inf.init(c, n, n, kRes));
+    auto src = make_grid(n, cost::kFree, ox, 23);
+    int pairs = 0;
+    for (int sep = 1, band = 0; sep <= 4 * R + 4; ++sep, band = (band + 1) % 4) {
+      const int ly = 5 + band * 30 + (sep % 3);
+      const int lx = (sep * 7) % (n - sep - 2);
+      src.local(lx, ly) = cost::kLethal;
+      src.local(lx + sep, ly + (sep % 2)) = cost::kLethal;
+      ++pairs;
+      if (band == 3) {  // a band at a time: compare, then start again
+        const std::vector<int> want = brute_force(src, c);
+        auto dst = make_grid(n, 77, src.origin_cx(), src.origin_cy());
+        inf.apply(src, dst);
+        int mismatches = 0;
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x)
+            if (dst.local(x, y) != want[std::size_t(y * n + x)]) ++mismatches;
+        EXPECT_EQ(mismatches, 0) << "origin " << ox << " up to separation " << sep;
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) src.local(x, y) = cost::kFree;
+      }
+    }
+    EXPECT_EQ(pairs, 4 * R + 4);
+  }
+}
+
 TEST(InflationLayerTest, NoLethalCellLeavesTheGridAsItWas) {
   InflationLayer inf;
   ASSERT_TRUE(inf.init(default_config(), 30, 30, kRes));
