@@ -10,6 +10,16 @@ namespace carril::fw {
 
 namespace {
 
+// The corner check: an arc is checked for what it drives in kCornerReactionS plus
+// emergency_stop_m, a turn in place kTurnMarginRad beyond what it turns in kCornerReactionS; arcs
+// no tighter than kMaxCurvature. A blocked turn looks for a place it is clear from every
+// kEscapeStepM up to kEscapeM, straight back and ahead.
+constexpr double kCornerReactionS = 0.2;  // [s]
+constexpr double kTurnMarginRad = 0.1;    // [rad]
+constexpr double kMaxCurvature = 20.0;    // [1/m]
+constexpr double kEscapeStepM = 0.05;     // [m]
+constexpr double kEscapeM = 1.0;          // [m]
+
 // The same ranges as the single goal's, naming the goal's index.
 Status validate_goal(std::size_t k, const Pose2& g) {
   const struct {
@@ -42,6 +52,7 @@ Status GotoConfig::validate() const {
       .range("max_recoveries", double(max_recoveries), 0.0, 1000.0, "stops")
       .range("turn_in_place_min_radps", turn_in_place_min_radps, 0.0, 10.0, "rad/s")
       .range("vff_fallback_m", vff_fallback_m, 0.0, 10.0, "m")
+      .range("corner_pad_m", corner_pad_m, -1.0, 0.5, "m")
       .range("plan_expansions_per_tick", double(plan_expansions_per_tick), 100.0, 1e7, "cells")
       .range("goal.x", goal.x, -1000.0, 1000.0, "m")
       .range("goal.y", goal.y, -1000.0, 1000.0, "m")
@@ -85,6 +96,10 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
       vff_(cfg.vff),
       odom_(odom),
       costmap_(costmap),
+      guard_(footprint.half_length_m, footprint.half_width_m, std::max(0.0, cfg.corner_pad_m),
+             std::hypot(footprint.half_length_m, footprint.half_width_m) +
+                 std::max(0.0, cfg.corner_pad_m) + cfg.speed_mps * kCornerReactionS +
+                 cfg.emergency_stop_m + kEscapeM + 0.1),
       goal_(cfg.goal_at(0)) {
   const RollingGrid<std::uint8_t>& m = costmap.master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
@@ -92,6 +107,7 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
 }
 
 void GotoMission::go(State s, const char* phase) {
+  if (s != state_) escaping_ = false;
   phase_.set(phase, s != state_);
   state_ = s;
 }
@@ -101,8 +117,9 @@ void GotoMission::enter(const MissionContext&) {
   phase_.restart("wait");
   waypoints_.clear();
   cells_.clear();
-  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = vff_fallbacks_ = 0;
-  vff_held_ = false;
+  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = vff_fallbacks_ = corner_turns_ =
+      corner_escapes_ = 0;
+  vff_held_ = escaping_ = corner_held_ = false;
   fault_ = Fault::None;
   goal_index_ = 0;
   goal_ = cfg_.goal_at(0);
@@ -145,6 +162,8 @@ void GotoMission::counters(MissionCounters& out) const {
   out.push_back({"emergency_stops", emergency_stops_});
   out.push_back({"goals_reached", goals_reached_});
   out.push_back({"vff_fallbacks", vff_fallbacks_});
+  out.push_back({"corner_turns", corner_turns_});
+  out.push_back({"corner_escapes", corner_escapes_});
 }
 
 void GotoMission::relocalised() {
@@ -447,12 +466,69 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
       out.motion.twist.vy = 0.0;
-      return out;
+      return corner_guarded(pose, out);
     }
     return emergency_stop(pose);
   }
   if (at_end) go(State::Approach, "approach");
-  return out;
+  return corner_guarded(pose, out);
+}
+
+// A tight turn checked with the corners (see corner_pad_m); other commands pass unchanged.
+MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) {
+  Twist& t = out.motion.twist;
+  const Vec2 here(pose.x, pose.y);
+  if (escaping_) {
+    // An escape runs its distance (deciding afresh each tick flips between ahead and back where
+    // the two are about as good), unless something now stands in its way.
+    guard_.gather(pose, costmap_.obstacles());
+    const double left = escape_m_ - (here - escape_from_).norm();
+    if (left > 0.0 && guard_.free_length(0.0, escape_dir_ < 0.0, left) >= left) {
+      t = Twist{};
+      t.vx = escape_dir_ * cfg_.backup_speed_mps;
+      return out;
+    }
+    escaping_ = false;
+  }
+  if (cfg_.corner_pad_m < 0.0 || t.vx < 0.0 || std::fabs(t.wz) < cfg_.turn_in_place_min_radps) {
+    corner_held_ = false;
+    return out;
+  }
+  guard_.gather(pose, costmap_.obstacles());
+  const double turn = std::copysign(std::fabs(t.wz) * kCornerReactionS + kTurnMarginRad, t.wz);
+  if (t.vx > 0.0) {
+    const double k = std::clamp(t.wz / t.vx, -kMaxCurvature, kMaxCurvature);
+    const double reach = t.vx * kCornerReactionS + cfg_.emergency_stop_m;
+    if (guard_.free_length(k, false, reach) >= reach) {
+      corner_held_ = false;
+      return out;
+    }
+    // The arc would bring the body onto a cell: turning in place keeps the front back.
+    if (!corner_held_) ++corner_turns_;
+    corner_held_ = true;
+    t.vx = 0.0;
+    t.vy = 0.0;
+  } else {
+    corner_held_ = false;
+  }
+  if (guard_.rotation_clear(turn)) return out;
+  // A corner would touch: move straight to the nearest place from which the turn is clear
+  // (behind first: the robot came from there).
+  for (double d = kEscapeStepM; d <= kEscapeM + 1e-9; d += kEscapeStepM) {
+    for (const double dir : {-1.0, 1.0}) {
+      if (guard_.rotation_clear(turn, dir * d) && guard_.free_length(0.0, dir < 0.0, d) >= d) {
+        ++corner_escapes_;
+        escaping_ = true;
+        escape_dir_ = dir;
+        escape_from_ = here;
+        escape_m_ = d;
+        t = Twist{};
+        t.vx = dir * cfg_.backup_speed_mps;
+        return out;
+      }
+    }
+  }
+  return emergency_stop(pose);
 }
 
 }  // namespace carril::fw

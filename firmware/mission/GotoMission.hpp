@@ -13,7 +13,8 @@
 //   PLAN to goal k + 1
 //   FOLLOW --obstacle on the path ahead--> PLAN (a replan)
 //   FOLLOW --a lethal cell just ahead, the path straight on--> BACKUP --backed off--> PLAN
-//   (the path turning: FOLLOW turns in place until the front is clear)
+//   (the path turning: FOLLOW turns in place until the front is clear; a turn that would swing a
+//   corner onto a lethal cell first moves straight, back or ahead, to where it is clear)
 //   PLAN --no path / goal invalid--> FAILED (fault)
 //   FOLLOW, BACKUP, APPROACH, ALIGN --the pose jumped (relocalised)--> PLAN (a replan)
 //   BACKUP --more than max_recoveries in a row--> FAILED (no_path)
@@ -37,6 +38,7 @@
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/CostmapView.hpp"
+#include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
 #include "firmware/perception/ObstacleField.hpp"
@@ -82,6 +84,16 @@ struct GotoConfig {
   // asin(vff.max_repulsion_ratio) off the path, in a gap between two obstacles into one); 0:
   // VFF alone [m].
   double vff_fallback_m = 0.5;
+  // The body's corners in a tight turn (|wz| at least turn_in_place_min_radps): the front check
+  // above sees only what lies ahead of the front edge, while a turn swings the corners out to the
+  // circumscribed circle. Such a turn is checked against the 2D lidar's lethal cells (surfaces it
+  // has hit) round the whole body, padded by corner_pad_m plus half a cell; an arc that would
+  // touch turns in place instead, and a turn in place that would touch first moves the robot
+  // straight (back first) up to a metre to where it is clear; nowhere: a stop and backup. Not
+  // the master's cells: its terrain cells reach a few tens of centimetres past a box's edge and
+  // left no room to turn between two boxes (goto_room_vff timed out on 4 of 6 seeds). Negative:
+  // off [m].
+  double corner_pad_m = 0.02;
   // The terrain round the goal may still read lethal from afar (a crest hides what lies beyond
   // it): the planner takes the cells this close to the goal as passable, unless the 2D lidar has
   // seen something on the goal itself (then the goal is invalid) [m].
@@ -135,6 +147,7 @@ class GotoMission final : public Mission {
   bool lethal_ahead(const Pose2& pose) const;
   bool lethal_at_edge(const Pose2& pose, double x_body) const;
   MissionOutput emergency_stop(const Pose2& pose);
+  MissionOutput corner_guarded(const Pose2& pose, MissionOutput out);
   MissionOutput backup(const Pose2& pose);
   bool start_cell(const Pose2& pose, GridCell& out) const;
   bool goal_in_obstacle(int gx, int gy) const;
@@ -167,6 +180,13 @@ class GotoMission final : public Mission {
   bool vff_held_ = false;  // pure pursuit drives in place of VFF (vff_fallback_m)
   Vec2 vff_held_at_{0.0, 0.0};
   std::uint32_t vff_fallbacks_ = 0;
+  BodyGuard guard_;           // the lethal cells round the body, for the corner check
+  bool escaping_ = false;     // moving straight to where a blocked turn is clear
+  double escape_dir_ = -1.0;  // +1 ahead, -1 back
+  Vec2 escape_from_{0.0, 0.0};
+  double escape_m_ = 0.0;     // [m]
+  bool corner_held_ = false;  // an arc held to a turn in place by the corner check
+  std::uint32_t corner_turns_ = 0, corner_escapes_ = 0;
   Fault fault_ = Fault::None;
   std::size_t goal_index_ = 0;
   Pose2 goal_;

@@ -272,5 +272,55 @@ TEST(GotoMissionTest, VffPushedTowardLethalCellsHandsOverToThePathForAStretch) {
   EXPECT_EQ(without.fallbacks, 0U);
 }
 
+// A wall along the body's right side, 0.1 m from it, and the goal behind: turning round where it
+// stands would swing the corners into the wall (a 0.5 m square sweeps a circle of 0.354 m), and
+// the front-edge check sees nothing ahead. goto_dead_end's seed 8 touched a wall's end so. With
+// the corner check the robot first moves along the wall to where the turn is clear; with it off
+// (corner_pad_m < 0) a corner goes into the wall.
+TEST(GotoMissionTest, ATurnThatWouldSwingACornerIntoAWallMovesClearFirst) {
+  struct Result {
+    GotoMission::State state;
+    double clearance;  // least distance from the body's outline to the wall [m]
+    std::uint32_t escapes;
+  };
+  const auto run = [](double pad_m) {
+    Rig r(Pose2{-1.0, 0.3, kPi});
+    r.cfg.corner_pad_m = pad_m;
+    r.pose = Pose2{1.0, 0.0, 0.0};
+    // Lethal cells from x 0.5 to 2.5 and y -0.45 to -0.35 (their faces).
+    r.costmap.wall(0.52, -0.43, 2.48, -0.37, true);
+    r.start();
+    double clearance = 1e9;
+    for (int i = 0; i < 6000 && r.mission->current() != GotoMission::State::Done &&
+                    r.mission->current() != GotoMission::State::Failed;
+         ++i) {
+      const MissionOutput out = r.run(0.01);
+      const double c = std::cos(r.pose.yaw), s = std::sin(r.pose.yaw);
+      for (int k = 0; k <= 40; ++k) {
+        const double u = -0.25 + 0.5 * k / 40.0;
+        for (const Vec2& b : {Vec2(0.25, u), Vec2(-0.25, u), Vec2(u, 0.25), Vec2(u, -0.25)}) {
+          const double x = r.pose.x + c * b.x() - s * b.y(), y = r.pose.y + s * b.x() + c * b.y();
+          const double dx = std::fmax(0.0, std::fmax(0.5 - x, x - 2.5));
+          const double dy = std::fmax(0.0, std::fmax(-0.45 - y, y + 0.35));
+          const bool inside = dx == 0.0 && dy == 0.0;
+          clearance = std::fmin(clearance, inside ? -1.0 : std::hypot(dx, dy));
+        }
+      }
+      (void)out;
+    }
+    MissionCounters c;
+    r.mission->counters(c);
+    EXPECT_STREQ(c[6].name, "corner_escapes");
+    return Result{r.mission->current(), clearance, c[6].value};
+  };
+  const Result on = run(0.02);
+  EXPECT_EQ(on.state, GotoMission::State::Done);
+  EXPECT_GE(on.clearance, 0.015);
+  EXPECT_GE(on.escapes, 1U);
+  const Result off = run(-1.0);
+  EXPECT_LT(off.clearance, 0.0);  // a corner inside the wall
+  EXPECT_EQ(off.escapes, 0U);
+}
+
 }  // namespace
 }  // namespace carril::fw

@@ -156,12 +156,14 @@ TEST(GotoSequenceTest, ThreeGoalsReachedInOrder) {
   EXPECT_FALSE(t.touched);
   MissionCounters c;
   t.mission->counters(c);
-  ASSERT_EQ(c.size(), 5u);
+  ASSERT_EQ(c.size(), 7u);
   EXPECT_STREQ(c[3].name, "goals_reached");
   EXPECT_EQ(c[3].value, 3u);
   EXPECT_EQ(c[0].value, 3u);  // one plan per goal
   EXPECT_STREQ(c[4].name, "vff_fallbacks");
   EXPECT_EQ(c[4].value, 0u);  // pure pursuit: VFF never drove
+  EXPECT_STREQ(c[5].name, "corner_turns");
+  EXPECT_STREQ(c[6].name, "corner_escapes");
 }
 
 // With align_every_goal off, only the last goal is turned to: no ALIGN before it.
