@@ -514,7 +514,9 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
   if (guard_.rotation_clear(turn)) return out;
   // A corner would touch: move straight to the nearest place from which the turn is clear
   // (behind first: the robot came from there).
-  for (double d = kEscapeStepM; d <= kEscapeM + 1e-9; d += kEscapeStepM) {
+  const int steps = int(std::lround(kEscapeM / kEscapeStepM));
+  for (int step = 1; step <= steps; ++step) {
+    const double d = step * kEscapeStepM;
     for (const double dir : {-1.0, 1.0}) {
       if (guard_.rotation_clear(turn, dir * d) && guard_.free_length(0.0, dir < 0.0, d) >= d) {
         ++corner_escapes_;
