@@ -48,9 +48,12 @@ class TestCostmap final : public CostmapView {
   void touch() { ++updates_; }
   // One lethal cell at (x, y) [m] with no inflation round it: a master that has not caught up
   // with an obstacle yet (the next rebuild inflates it).
-  void bare_lethal(double x, double y) {
+  void bare_lethal(double x, double y, bool seen_by_lidar = false) {
     int cx = 0, cy = 0;
     if (master_.world_to_cell(x, y, cx, cy)) master_.at(cx, cy) = cost::kLethal;
+    if (seen_by_lidar && obstacles_.world_to_cell(x, y, cx, cy)) {
+      obstacles_.at(cx, cy) = cost::kLethal;
+    }
     ++updates_;
   }
 
@@ -270,6 +273,24 @@ TEST(GotoMissionTest, VffPushedTowardLethalCellsHandsOverToThePathForAStretch) {
   EXPECT_EQ(without.state, GotoMission::State::Failed);
   EXPECT_EQ(without.stops, GotoConfig{}.max_recoveries + 1);
   EXPECT_EQ(without.fallbacks, 0U);
+}
+
+// The VFF handover's row, now seen by the lidar: VFF's push brings the body within 0.1 m of it,
+// where no turn is clear, and the follower's turns change direction from tick to tick. An escape
+// runs its distance: decided afresh each tick it flipped between back and ahead (1 mm a tick)
+// and the robot stood there until the time ran out.
+TEST(GotoMissionTest, AnEscapeBesideASeenRowRunsToItsEnd) {
+  Rig r(Pose2{2.5, 0.0, 0.0});
+  r.cfg.follower = GotoFollower::Vff;
+  r.costmap.wall(-2.0, -0.75, 2.5, -0.55, true);
+  for (double x = 0.6; x < 2.1; x += 0.05) r.costmap.bare_lethal(x, 0.45, true);
+  r.start();
+  r.run(60.0);
+  EXPECT_EQ(r.mission->current(), GotoMission::State::Done);
+  MissionCounters c;
+  r.mission->counters(c);
+  EXPECT_STREQ(c[6].name, "corner_escapes");
+  EXPECT_GE(c[6].value, 1U);
 }
 
 // A wall along the body's right side, 0.1 m from it, and the goal behind: turning round where it
