@@ -161,4 +161,19 @@ bool BodyGuard::rotation_clear(double angle_rad, double shift_m) const {
   }
 }
 
+double BodyGuard::escape_shift(double angle_rad, double step_m, double max_m,
+                               double min_free_m) const {
+  const int steps = int(std::floor(max_m / step_m + 1e-9));
+  for (int step = 1; step <= steps; ++step) {
+    const double d = step * step_m;
+    for (const double dir : {-1.0, 1.0}) {
+      const double need = std::fmax(d, min_free_m);
+      if (rotation_clear(angle_rad, dir * d) && free_length(0.0, dir < 0.0, need) >= need) {
+        return dir * d;
+      }
+    }
+  }
+  return 0.0;
+}
+
 }  // namespace carril::fw

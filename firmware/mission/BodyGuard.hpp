@@ -59,6 +59,11 @@ class BodyGuard {
   // The padded body can turn in place through angle_rad (its sign the direction) [rad], here or
   // moved shift_m straight ahead (behind when negative) [m].
   bool rotation_clear(double angle_rad, double shift_m = 0.0) const;
+  // Where a turn through angle_rad that is blocked here becomes clear: the nearest straight move,
+  // every step_m up to max_m and behind first at each distance, from which the turn is clear and
+  // whose way is free for the move and at least min_free_m. The signed move [m] (negative:
+  // back), or 0 when there is none.
+  double escape_shift(double angle_rad, double step_m, double max_m, double min_free_m) const;
 
   std::size_t cells() const { return cells_.size(); }
   bool crowded() const { return crowded_; }

@@ -478,10 +478,12 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
 MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) {
   Twist& t = out.motion.twist;
   const Vec2 here(pose.x, pose.y);
+  const bool tight =
+      cfg_.corner_pad_m >= 0.0 && t.vx >= 0.0 && std::fabs(t.wz) >= cfg_.turn_in_place_min_radps;
+  if (escaping_ || tight) guard_.gather(pose, costmap_.obstacles());
   if (escaping_) {
     // An escape runs its distance (deciding afresh each tick flips between ahead and back where
     // the two are about as good), unless something now stands in its way.
-    guard_.gather(pose, costmap_.obstacles());
     const double left = escape_m_ - (here - escape_from_).norm();
     if (left > 0.0 && guard_.free_length(0.0, escape_dir_ < 0.0, left) >= left) {
       t = Twist{};
@@ -490,11 +492,10 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
     }
     escaping_ = false;
   }
-  if (cfg_.corner_pad_m < 0.0 || t.vx < 0.0 || std::fabs(t.wz) < cfg_.turn_in_place_min_radps) {
+  if (!tight) {
     corner_held_ = false;
     return out;
   }
-  guard_.gather(pose, costmap_.obstacles());
   const double turn = std::copysign(std::fabs(t.wz) * kCornerReactionS + kTurnMarginRad, t.wz);
   if (t.vx > 0.0) {
     const double k = std::clamp(t.wz / t.vx, -kMaxCurvature, kMaxCurvature);
@@ -514,23 +515,16 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
   if (guard_.rotation_clear(turn)) return out;
   // A corner would touch: move straight to the nearest place from which the turn is clear
   // (behind first: the robot came from there).
-  const int steps = int(std::lround(kEscapeM / kEscapeStepM));
-  for (int step = 1; step <= steps; ++step) {
-    const double d = step * kEscapeStepM;
-    for (const double dir : {-1.0, 1.0}) {
-      if (guard_.rotation_clear(turn, dir * d) && guard_.free_length(0.0, dir < 0.0, d) >= d) {
-        ++corner_escapes_;
-        escaping_ = true;
-        escape_dir_ = dir;
-        escape_from_ = here;
-        escape_m_ = d;
-        t = Twist{};
-        t.vx = dir * cfg_.backup_speed_mps;
-        return out;
-      }
-    }
-  }
-  return emergency_stop(pose);
+  const double shift = guard_.escape_shift(turn, kEscapeStepM, kEscapeM, 0.0);
+  if (shift == 0.0) return emergency_stop(pose);
+  ++corner_escapes_;
+  escaping_ = true;
+  escape_dir_ = shift < 0.0 ? -1.0 : 1.0;
+  escape_from_ = here;
+  escape_m_ = std::fabs(shift);
+  t = Twist{};
+  t.vx = escape_dir_ * cfg_.backup_speed_mps;
+  return out;
 }
 
 }  // namespace carril::fw

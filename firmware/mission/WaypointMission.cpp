@@ -291,19 +291,13 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
   }
   // A corner would touch: move straight, ahead or back, to the nearest place within kEscapeM
   // from which the turn is clear (behind first: the robot came from there).
-  const double turn = std::copysign(horizon, want.wz);
-  const double stop_m = stop_distance(cfg_.escape_speed_mps);
-  for (double d = kEscapeStepM; d <= kEscapeM + 1e-9; d += kEscapeStepM) {
-    for (const double dir : {-1.0, 1.0}) {
-      const double need = std::fmax(d, stop_m);
-      if (guard_.rotation_clear(turn, dir * d) &&
-          guard_.free_length(0.0, dir < 0.0, need) >= need) {
-        if (!escaping_) ++escapes_;
-        escaping_ = true;
-        t.vx = dir * cfg_.escape_speed_mps;
-        return t;
-      }
-    }
+  const double shift = guard_.escape_shift(std::copysign(horizon, want.wz), kEscapeStepM, kEscapeM,
+                                           stop_distance(cfg_.escape_speed_mps));
+  if (shift != 0.0) {
+    if (!escaping_) ++escapes_;
+    escaping_ = true;
+    t.vx = std::copysign(cfg_.escape_speed_mps, shift);
+    return t;
   }
   escaping_ = false;  // nowhere near: hold (the stuck check ends it)
   return t;

@@ -61,6 +61,39 @@ TEST(BodyGuardTest, ACellInsideTheSweptCircleBlocksTheTurnNotTheDrive) {
   EXPECT_TRUE(b.rotation_clear(kPi));
 }
 
+// A row of cells along the left side, from 0.2 m behind the centre to 0.6 m ahead, blocks a turn
+// here; escape_shift finds the nearest place,
+// straight back or ahead, from which the turn is clear and the way there is free.
+TEST(BodyGuardTest, EscapeShiftFindsTheNearestPlaceTheTurnIsClearFrom) {
+  Grid m;
+  // 12.5 cm off the left side: inside the swept circle, outside the padded side.
+  for (double x = -0.2; x <= 0.6; x += 0.05) m.lethal(x, 0.375);
+  BodyGuard b = square();
+  b.gather(Pose2{0.0, 0.0, 0.0}, m.g);
+  ASSERT_FALSE(b.rotation_clear(kPi));
+  const double back = b.escape_shift(kPi, 0.05, 1.0, 0.0);
+  ASSERT_LT(back, 0.0);  // the row ends nearer behind than ahead
+  EXPECT_TRUE(b.rotation_clear(kPi, back));
+  EXPECT_FALSE(b.rotation_clear(kPi, back + 0.05));  // the nearest such place
+  // A cell just behind the body: backing is not free, so the way ahead past the row's end.
+  m.lethal(-0.35, 0.0);
+  b.gather(Pose2{0.0, 0.0, 0.0}, m.g);
+  const double ahead = b.escape_shift(kPi, 0.05, 1.2, 0.0);
+  EXPECT_GT(ahead, 0.0);
+  EXPECT_TRUE(b.rotation_clear(kPi, ahead));
+  EXPECT_FALSE(b.rotation_clear(kPi, ahead - 0.05));
+  // Nowhere within 0.3 m: none.
+  EXPECT_EQ(b.escape_shift(kPi, 0.05, 0.3, 0.0), 0.0);
+  // The way must also be free for min_free_m: with a cell 0.9 m behind (about 0.55 m of room),
+  // backing serves a caller that needs no room, not one that needs 0.6 m.
+  Grid m2;
+  for (double x = -0.2; x <= 0.6; x += 0.05) m2.lethal(x, 0.375);
+  m2.lethal(-0.9, 0.0);
+  b.gather(Pose2{0.0, 0.0, 0.0}, m2.g);
+  EXPECT_LT(b.escape_shift(kPi, 0.05, 1.2, 0.0), 0.0);
+  EXPECT_GT(b.escape_shift(kPi, 0.05, 1.2, 0.6), 0.0);
+}
+
 // A cell straight ahead: the free length is what is left between it and the padded front.
 TEST(BodyGuardTest, FreeLengthStopsShortOfACellAhead) {
   Grid m;
