@@ -69,6 +69,16 @@ double path_curvature(const Vec2* path, std::size_t n, const PathProjection& at,
   return 2.0 * (ab.x() * ac.y() - ab.y() * ac.x()) / d;
 }
 
+// On the last segment and across the line through its end square to it: the robot went by the
+// end wider than goal_tolerance. Driving on would follow the lane's line past its end (into the
+// wall a lane ends at), speeding up as the straight distance to the end grows.
+bool LaneFollower::past_end(const Vec2* path, std::size_t n, const PathProjection& at,
+                            const Vec2& p) {
+  if (n < 2 || at.segment + 2 < n) return false;
+  const Vec2 d = path[n - 1] - path[n - 2];
+  return d.dot(p - path[n - 1]) >= 0.0 && d.squaredNorm() > 1e-18;
+}
+
 Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
   Twist t;
   if (n == 0 || path == nullptr || !std::isfinite(pose.x) || !std::isfinite(pose.y) ||
@@ -80,7 +90,7 @@ Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
   const PathProjection at = project_on_path(path, n, p, progress_, 8);
   progress_ = at.segment;
   const double to_end = (path[n - 1] - p).norm();
-  if (to_end < cfg_.goal_tolerance_m || n < 2) at_end_ = true;
+  if (to_end < cfg_.goal_tolerance_m || n < 2 || past_end(path, n, at, p)) at_end_ = true;
   if (at_end_) return t;
   const double heading = path_heading(path, n, at);
   const Vec2 tangent(std::cos(heading), std::sin(heading));

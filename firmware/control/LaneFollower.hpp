@@ -5,7 +5,9 @@
 // cross-track error, instead of pure pursuit's chord (which cuts into a U-turn as soon as its
 // pursued point enters it). Speed: cruise, cut where the path's curvature would need more than
 // max_yaw_rate, less with a heading error, and a braking ramp toward the route's end. A pose facing
-// away from the route by more than rotate_in_place_rad turns on the spot first. No allocation.
+// away from the route by more than rotate_in_place_rad turns on the spot first. The route ends
+// within goal_tolerance of its last point, or once the robot is past that point along the last
+// segment (however wide of it). No allocation.
 #include <cstddef>
 
 #include "firmware/control/PurePursuitFollower.hpp"
@@ -48,6 +50,7 @@ class LaneFollower {
 
  private:
   static constexpr int kBrakeSamples = 6;  // bends looked at ahead
+  static bool past_end(const Vec2* path, std::size_t n, const PathProjection& at, const Vec2& p);
   LaneFollowerConfig cfg_;
   std::size_t progress_ = 0;
   bool at_end_ = false;

@@ -121,5 +121,33 @@ TEST(LaneFollowerTest, ConvergesOntoALaneFromAnOffsetAndTurnsOnTheSpotWhenFacing
   EXPECT_NE(t.wz, 0.0);
 }
 
+// A robot that reaches the end wider than goal_tolerance (8 cm to the side) stops there: driving
+// on, it would follow the lane's line past its end, faster as the end fell behind.
+TEST(LaneFollowerTest, StopsOnceItIsPastTheEndHoweverWideOfIt) {
+  const std::vector<Vec2> p = {{0.0, 0.0}, {1.0, 0.0}};
+  LaneFollowerConfig cfg;
+  cfg.cross_track_gain = 0.0;  // nothing pulls it onto the line before the end
+  cfg.heading_gain = 0.0;
+  LaneFollower f(cfg);
+  Pose2 pose{0.8, 0.08, 0.0};
+  const Twist before = f.update(pose, p.data(), p.size());
+  EXPECT_GT(before.vx, 0.0);
+  EXPECT_FALSE(f.at_end());
+  for (int i = 0; i < 300 && !f.at_end(); ++i) {
+    integrate(pose, f.update(pose, p.data(), p.size()), 0.01);
+  }
+  EXPECT_TRUE(f.at_end());
+  EXPECT_GE(pose.x, 1.0);
+  EXPECT_LT(pose.x, 1.01);  // one step past the end's line at most
+  const Twist after = f.update(pose, p.data(), p.size());
+  EXPECT_EQ(after.vx, 0.0);
+  EXPECT_EQ(after.wz, 0.0);
+  // Just before the end's line it still drives.
+  f.reset();
+  const Twist near = f.update(Pose2{0.99, 0.08, 0.0}, p.data(), p.size());
+  EXPECT_GT(near.vx, 0.0);
+  EXPECT_FALSE(f.at_end());
+}
+
 }  // namespace
 }  // namespace carril::fw
