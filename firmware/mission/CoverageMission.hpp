@@ -202,6 +202,7 @@ class CoverageMission final : public Mission {
   void build_mapped_mask();
   bool unmapped_lethal(int cx, int cy) const;
   void overlay_unmapped();
+  double obstacle_reach_m() const;
   bool blocked_at(const Vec2& p) const;
   bool path_blocked_ahead(const Pose2& pose) const;
   // any_lethal: every lethal cell counts (the vacuum is blind to the map), else unmapped ones.

@@ -40,15 +40,23 @@ bool CoverageMission::unmapped_lethal(int cx, int cy) const {
   return mapped_[cell_index(i, j)] == 0;
 }
 
+// How far the robot's centre keeps from an unmapped obstacle's cell: the inscribed radius plus
+// wall_clearance_m, as from the mapped walls [m]. With the radius alone the planner led transits
+// through gaps a centimetre wider than the body, where pure pursuit's cut corners touched the
+// obstacle, the wheels slipped and the pose estimate ran off (docs/performance.md).
+double CoverageMission::obstacle_reach_m() const {
+  return std::min(footprint_.half_length_m, footprint_.half_width_m) + cfg_.wall_clearance_m;
+}
+
 // plan_costs_ (the static area) gains the costmap's graded costs (transits keep off walls) and
-// the unmapped obstacles, each widened by the inscribed radius. O(cells) plus the obstacles'
+// the unmapped obstacles, each widened by obstacle_reach_m(). O(cells) plus the obstacles'
 // disks.
 void CoverageMission::overlay_unmapped() {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
   if (!m.ready()) return;
   const int nx = map_.nx(), ny = map_.ny();
   const double res = map_.resolution();
-  const double radius = std::min(footprint_.half_length_m, footprint_.half_width_m) / res;
+  const double radius = obstacle_reach_m() / res;
   const int r = int(std::ceil(radius));
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
@@ -73,11 +81,12 @@ void CoverageMission::overlay_unmapped() {
   }
 }
 
-// An unmapped obstacle within the inscribed radius of p: the body standing there would touch it.
+// An unmapped obstacle within obstacle_reach_m() of p: the body standing there would touch it, or
+// come closer than the clearance the mission keeps.
 bool CoverageMission::blocked_at(const Vec2& p) const {
   const RollingGrid<std::uint8_t>& m = costmap_.master();
   if (!m.ready()) return false;
-  const double radius = std::min(footprint_.half_length_m, footprint_.half_width_m);
+  const double radius = obstacle_reach_m();
   const int n = int(std::ceil(radius / m.resolution()));
   const int cx0 = m.cell_of(p.x()), cy0 = m.cell_of(p.y());
   for (int cy = cy0 - n; cy <= cy0 + n; ++cy) {
