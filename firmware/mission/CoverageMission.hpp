@@ -90,7 +90,9 @@ struct CoverageConfig {
   double transit_edge_lookahead_m = 0.25;  // [m]
   double lane_overlap = 0.1;               // lanes are tool_width * (1 - lane_overlap) apart [-]
   double turn_radius_m = 0.0;        // U-turn arcs between lanes; 0: half the lane spacing [m]
-  double wall_clearance_m = 0.0;     // the lanes keep this much beyond the inscribed radius [m]
+  // The lanes and transits keep this much beyond the inscribed radius from the walls and from
+  // obstacles the map does not show [m]
+  double wall_clearance_m = 0.0;
   StaticVector<Vec2, 16> area;       // the area's polygon, map frame [m]; empty: the whole map
   double target_coverage = 0.97;     // REVISIT ends at this covered fraction of the area [-]
   double skip_swept_cell = 0.98;     // a cell this much swept already (from its neighbours' lanes)
