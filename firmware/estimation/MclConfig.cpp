@@ -25,6 +25,8 @@ Status MclConfig::validate() const {
       .range("alpha4", alpha4, 0.0, 10.0, "m^2/rad^2")
       .nested(field().validate())
       .range("max_beams", max_beams, 1, hal::kMaxScanBeams, "beams")
+      .range("beam_skip_distance_m", beam_skip_distance_m, 0.0, 100.0, "m")
+      .range("beam_skip_max_fraction", beam_skip_max_fraction, 0.0, 1.0, "")
       .range("beam_correlation", beam_correlation, 0.0, 1.0, "")
       .range("search_sigma_hit_m", search_sigma_hit_m, 0.0, 10.0, "m")
       .range("search_beam_correlation", search_beam_correlation, 0.0, 1.0, "")

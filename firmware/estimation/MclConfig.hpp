@@ -25,6 +25,15 @@ struct MclConfig {
   double laser_max_range_m = 12.0;     // beams at or beyond are skipped; z_max of z_rand [m]
   double likelihood_max_dist_m = 2.0;  // distance to obstacles is clamped here [m]
   bool surface_distance = false;       // LikelihoodFieldConfig::surface_distance
+  // Beam skipping (AMCL's do_beamskip, judged at one pose): while tracking, a valid beam whose
+  // endpoint, seen from the predicted pose (the estimate moved on by the odometry), lies farther
+  // than beam_skip_distance_m plus three standard deviations of the estimate's yaw times the
+  // range from every occupied cell is taken to have hit something the map does not show (a box,
+  // a person) and is not weighed. Such returns otherwise pull the estimate toward poses that put
+  // them on a wall. When more than beam_skip_max_fraction of the valid beams would go, the
+  // prediction is suspect (a kidnap, a wrong start) and every beam is weighed. 0 = off.
+  double beam_skip_distance_m = 0.3;    // [m]
+  double beam_skip_max_fraction = 0.3;  // [-]
   // The joint log-likelihood of a scan is the sum over its n beams times
   // 1 / (1 + (n - 1) beam_correlation): beams whose errors are correlated (the same wall, the
   // same map error) count as fewer independent ones. 0 = independent beams (plain sum).

@@ -55,6 +55,7 @@ MonteCarloLocalizer::MonteCarloLocalizer(const MclConfig& cfg, const OccupancyGr
   bins_ = BinSet(cfg.max_particles);
   alias_ = AliasTable(cfg.max_particles);
   valid_ = std::make_unique<std::uint16_t[]>(std::size_t(hal::kMaxScanBeams));
+  fits_ = std::make_unique<std::uint8_t[]>(std::size_t(hal::kMaxScanBeams));
   beam_x_ = std::make_unique<float[]>(std::size_t(cfg.max_beams));
   beam_y_ = std::make_unique<float[]>(std::size_t(cfg.max_beams));
   set_global();
@@ -144,6 +145,7 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
     }
   }
   if (nv == 0) return false;
+  nv = skip_unmapped(scan, odom_pose, laser_mount, nv);
   // max_beams of them, evenly spaced, as endpoints in the robot frame [cells].
   n_beams_ = std::min(nv, cfg_.max_beams);
   const double inv_res = 1.0 / field_.resolution();
@@ -169,6 +171,45 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
   cursor_ = 0;
   phase_ = Phase::Weigh;
   return true;
+}
+
+// Beam skipping (MclConfig::beam_skip_distance_m): drops from valid_[0..nv) the beams whose
+// endpoints, from the predicted pose, lie off the map's obstacles; returns the count left. Only
+// while tracking an estimate, and not when too many would go. O(nv).
+int MonteCarloLocalizer::skip_unmapped(const hal::LaserScan& scan, const Pose2& odom_pose,
+                                       const Pose2& laser_mount, int nv) {
+  tel_.beams_skipped = 0;
+  if (cfg_.beam_skip_distance_m <= 0.0 || search_ || !estimate_has_odom_) return nv;
+  const Pose2 pred = map_pose(odom_pose);
+  const Vec2 sensor = to_world(pred, Vec2(laser_mount.x, laser_mount.y));
+  const double yaw0 = pred.yaw + laser_mount.yaw;
+  // A long beam's endpoint swings with the estimate's yaw: the test widens by three standard
+  // deviations of it times the range. With the distance alone a small yaw error moved the far
+  // endpoints off the walls, the beams that would have corrected it were the ones dropped, and a
+  // tracking filter of the unit tests lost its pose.
+  const double sd_yaw3 = 3.0 * std::sqrt(std::max(0.0, cov_(2, 2)));
+  int kept = 0;
+  for (int v = 0; v < nv; ++v) {
+    const int i = valid_[std::size_t(v)];
+    const double a =
+        yaw0 + double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
+    const double r = double(scan.ranges_m[std::size_t(i)]);
+    const bool fits =
+        field_.distance_at(sensor.x() + r * std::cos(a), sensor.y() + r * std::sin(a)) <=
+        cfg_.beam_skip_distance_m + sd_yaw3 * r;
+    fits_[std::size_t(v)] = fits ? 1 : 0;
+    kept += fits ? 1 : 0;
+  }
+  if (kept == 0 || double(nv - kept) > cfg_.beam_skip_max_fraction * double(nv)) {
+    if (kept < nv) ++tel_.skip_refused;
+    return nv;
+  }
+  int w = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (fits_[std::size_t(v)] != 0) valid_[std::size_t(w++)] = valid_[std::size_t(v)];
+  }
+  tel_.beams_skipped = nv - w;
+  return w;
 }
 
 double MonteCarloLocalizer::scan_fit(const hal::LaserScan& scan, const Pose2& pose,

@@ -50,6 +50,8 @@ struct MclTelemetry {
   std::uint64_t dropped_scans = 0;  // scans offered while an update was still running
   int last_injected = 0;            // random particles in the latest resampling
   int beams_used = 0;               // beams weighed in the latest update
+  int beams_skipped = 0;            // valid beams of the latest update's scan not weighed
+  std::uint64_t skip_refused = 0;   // updates that would have skipped too many beams
   double w_slow = 0.0;              // long-term average per-beam likelihood [1/m]
   double w_fast = 0.0;              // short-term average [1/m]
   double inject_probability = 0.0;  // max(0, 1 - w_fast / w_slow) at the latest update
@@ -157,6 +159,8 @@ class MonteCarloLocalizer {
   void count(long& units);
   bool bin_insert(const Particle& p);
   void finish_resampling();
+  int skip_unmapped(const hal::LaserScan& scan, const Pose2& odom_pose, const Pose2& laser_mount,
+                    int nv);
 
   MclConfig cfg_;
   Status status_;
@@ -190,6 +194,7 @@ class MonteCarloLocalizer {
   Phase phase_ = Phase::Idle;
   int cursor_ = 0;
   std::unique_ptr<std::uint16_t[]> valid_;    // indices of the scan's valid beams
+  std::unique_ptr<std::uint8_t[]> fits_;      // beam skipping: per valid beam, 1 = weighed
   std::unique_ptr<float[]> beam_x_, beam_y_;  // beam endpoints in the robot frame [cells]
   int n_beams_ = 0;
   float temper_ = 1.0F;
