@@ -284,15 +284,21 @@ void report(const char* what, const Rig& rig, const Result& r, double covered, d
   std::printf("\n");
 }
 
+// The covered fraction of the true reachable area; prints it with the run's figures.
+double covered_and_report(const char* what, const Rig& rig, const Result& r) {
+  std::size_t cells = 0;
+  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
+  report(what, rig, r, covered, lower_bound_s(cells, rig.cfg));
+  return covered;
+}
+
 TEST(CoverageMissionTest, SystematicCoversTheTwoRoomsAndEndsDone) {
   Rig rig(CoverageMode::Systematic);
   rig.start();
   ASSERT_TRUE(rig.mission->init_status().is_ok()) << rig.mission->init_status().message();
   const Result r = rig.run(600.0);
   ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
-  std::size_t cells = 0;
-  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
-  report("systematic", rig, r, covered, lower_bound_s(cells, rig.cfg));
+  const double covered = covered_and_report("systematic", rig, r);
   EXPECT_GE(covered, 0.95);
   EXPECT_EQ(r.collisions, 0);
   MissionCounters c;
@@ -322,9 +328,7 @@ TEST(CoverageMissionTest, AnObstacleMissingFromTheMapIsDrivenRoundAndItsSurround
   rig.start();
   const Result r = rig.run(900.0);
   ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
-  std::size_t cells = 0;
-  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
-  report("systematic, unmapped obstacle", rig, r, covered, lower_bound_s(cells, rig.cfg));
+  const double covered = covered_and_report("systematic, unmapped obstacle", rig, r);
   EXPECT_GE(covered, 0.95);
   EXPECT_EQ(r.collisions, 0);
   EXPECT_GT(r.min_obstacle_m, 0.25 - 0.5 * kRes);  // the body never reached it
@@ -343,10 +347,7 @@ TEST(CoverageMissionTest, AnUnmappedObstacleIsKeptAtTheWallClearance) {
   rig.start();
   const Result r = rig.run(900.0);
   ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
-  std::size_t cells = 0;
-  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
-  report("systematic, unmapped obstacle, 0.1 m clearance", rig, r, covered,
-         lower_bound_s(cells, rig.cfg));
+  covered_and_report("systematic, unmapped obstacle, 0.1 m clearance", rig, r);
   EXPECT_EQ(r.collisions, 0);
   // The centre stays the radius and the clearance away, less a cell (the grid's rounding).
   EXPECT_GT(r.min_obstacle_m, 0.25 + 0.1 - kRes);
@@ -377,10 +378,8 @@ TEST(CoverageMissionTest, LethalCellsOnAWallsFaceAreTheWallNotAnObstacle) {
   rig.start();
   const Result r = rig.run(600.0);
   ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
-  std::size_t cells = 0;
-  const double covered = covered_of(*rig.mission, reachable_truth(rig), &cells);
-  report("systematic, walls a cell thicker in the costmap", rig, r, covered,
-         lower_bound_s(cells, rig.cfg));
+  const double covered =
+      covered_and_report("systematic, walls a cell thicker in the costmap", rig, r);
   EXPECT_GE(covered, 0.95);
   EXPECT_EQ(r.collisions, 0);
   MissionCounters c;
