@@ -48,6 +48,14 @@ double heading_ahead(const Vec2* path, std::size_t n, const PathProjection& at, 
   const Vec2 d = path[k + 1] - path[k];
   return std::atan2(d.y(), d.x());
 }
+// On the last segment and across the line through its end square to it: the robot went by the
+// end wider than goal_tolerance. Driving on would follow the lane's line past its end (into the
+// wall a lane ends at), speeding up as the straight distance to the end grows.
+bool past_end(const Vec2* path, std::size_t n, const PathProjection& at, const Vec2& p) {
+  if (n < 2 || at.segment + 2 < n) return false;
+  const Vec2 d = path[n - 1] - path[n - 2];
+  return d.dot(p - path[n - 1]) >= 0.0 && d.squaredNorm() > 1e-18;
+}
 }  // namespace
 
 double path_heading(const Vec2* path, std::size_t n, const PathProjection& at) {
@@ -67,16 +75,6 @@ double path_curvature(const Vec2* path, std::size_t n, const PathProjection& at,
   const double d = ab.norm() * bc.norm() * ac.norm();
   if (d < 1e-12) return 0.0;
   return 2.0 * (ab.x() * ac.y() - ab.y() * ac.x()) / d;
-}
-
-// On the last segment and across the line through its end square to it: the robot went by the
-// end wider than goal_tolerance. Driving on would follow the lane's line past its end (into the
-// wall a lane ends at), speeding up as the straight distance to the end grows.
-bool LaneFollower::past_end(const Vec2* path, std::size_t n, const PathProjection& at,
-                            const Vec2& p) {
-  if (n < 2 || at.segment + 2 < n) return false;
-  const Vec2 d = path[n - 1] - path[n - 2];
-  return d.dot(p - path[n - 1]) >= 0.0 && d.squaredNorm() > 1e-18;
 }
 
 Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {

@@ -50,7 +50,6 @@ class LaneFollower {
 
  private:
   static constexpr int kBrakeSamples = 6;  // bends looked at ahead
-  static bool past_end(const Vec2* path, std::size_t n, const PathProjection& at, const Vec2& p);
   LaneFollowerConfig cfg_;
   std::size_t progress_ = 0;
   bool at_end_ = false;

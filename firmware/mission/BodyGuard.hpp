@@ -21,6 +21,13 @@ class BodyGuard {
   // Cells gathered per tick; a window holding more (or a non-finite pose) is "crowded": every
   // motion check reports blocked.
   static constexpr std::size_t kMaxCells = 2048;
+  // How the missions use the guard (goto and waypoints alike): arcs are checked no tighter than
+  // kMaxCurvature, a turn in place kTurnMarginRad beyond what it turns in the reaction time, and
+  // a blocked turn looks for a place it is clear from every kEscapeStepM up to kEscapeM.
+  static constexpr double kMaxCurvature = 20.0;  // [1/m]
+  static constexpr double kTurnMarginRad = 0.1;  // [rad]
+  static constexpr double kEscapeStepM = 0.05;   // [m]
+  static constexpr double kEscapeM = 1.0;        // [m]
 
   // The body's half length and half width [m], the clearance kept round it [m], and the radius
   // round the centre within which cells are gathered [m].

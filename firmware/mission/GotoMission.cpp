@@ -11,14 +11,9 @@ namespace carril::fw {
 namespace {
 
 // The corner check: an arc is checked for what it drives in kCornerReactionS plus
-// emergency_stop_m, a turn in place kTurnMarginRad beyond what it turns in kCornerReactionS; arcs
-// no tighter than kMaxCurvature. A blocked turn looks for a place it is clear from every
-// kEscapeStepM up to kEscapeM, straight back and ahead.
+// emergency_stop_m, a turn in place for what it turns in kCornerReactionS (the margins, the
+// tightest arc and the escape search: BodyGuard's constants).
 constexpr double kCornerReactionS = 0.2;  // [s]
-constexpr double kTurnMarginRad = 0.1;    // [rad]
-constexpr double kMaxCurvature = 20.0;    // [1/m]
-constexpr double kEscapeStepM = 0.05;     // [m]
-constexpr double kEscapeM = 1.0;          // [m]
 
 // The same ranges as the single goal's, naming the goal's index.
 Status validate_goal(std::size_t k, const Pose2& g) {
@@ -99,7 +94,7 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
       guard_(footprint.half_length_m, footprint.half_width_m, std::max(0.0, cfg.corner_pad_m),
              std::hypot(footprint.half_length_m, footprint.half_width_m) +
                  std::max(0.0, cfg.corner_pad_m) + cfg.speed_mps * kCornerReactionS +
-                 cfg.emergency_stop_m + kEscapeM + 0.1),
+                 cfg.emergency_stop_m + BodyGuard::kEscapeM + 0.1),
       goal_(cfg.goal_at(0)) {
   const RollingGrid<std::uint8_t>& m = costmap.master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
@@ -496,9 +491,10 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
     corner_held_ = false;
     return out;
   }
-  const double turn = std::copysign(std::fabs(t.wz) * kCornerReactionS + kTurnMarginRad, t.wz);
+  const double turn =
+      std::copysign(std::fabs(t.wz) * kCornerReactionS + BodyGuard::kTurnMarginRad, t.wz);
   if (t.vx > 0.0) {
-    const double k = std::clamp(t.wz / t.vx, -kMaxCurvature, kMaxCurvature);
+    const double k = std::clamp(t.wz / t.vx, -BodyGuard::kMaxCurvature, BodyGuard::kMaxCurvature);
     const double reach = t.vx * kCornerReactionS + cfg_.emergency_stop_m;
     if (guard_.free_length(k, false, reach) >= reach) {
       corner_held_ = false;
@@ -515,7 +511,7 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
   if (guard_.rotation_clear(turn)) return out;
   // A corner would touch: move straight to the nearest place from which the turn is clear
   // (behind first: the robot came from there).
-  const double shift = guard_.escape_shift(turn, kEscapeStepM, kEscapeM, 0.0);
+  const double shift = guard_.escape_shift(turn, BodyGuard::kEscapeStepM, BodyGuard::kEscapeM, 0.0);
   if (shift == 0.0) return emergency_stop(pose);
   ++corner_escapes_;
   escaping_ = true;

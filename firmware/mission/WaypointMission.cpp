@@ -16,14 +16,9 @@ namespace {
 constexpr const char* kDrive = "drive";
 constexpr const char* kSkip = "skip";  // one tick: a target was given up, the next one is current
 
-// The guard: a cut forward speed below kCreepMps is a stop; arcs are checked no tighter than
-// kMaxCurvature; a turn in place is checked kTurnMarginRad beyond what it turns in reaction_s.
-constexpr double kCreepMps = 0.02;      // [m/s]
-constexpr double kMaxCurvature = 20.0;  // [1/m]
-constexpr double kTurnMarginRad = 0.1;  // [rad]
-// A blocked turn: a place it is clear from is looked for every kEscapeStepM up to kEscapeM.
-constexpr double kEscapeStepM = 0.05;  // [m]
-constexpr double kEscapeM = 1.0;       // [m]
+// The guard: a cut forward speed below kCreepMps is a stop (its arcs, turns and escapes:
+// BodyGuard's constants).
+constexpr double kCreepMps = 0.02;  // [m/s]
 
 // The follower as the mission drives it: its cruise speed is the mission's.
 VffConfig follower_config(const WaypointConfig& cfg) {
@@ -264,7 +259,7 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
   bool stop = false;
   if (want.vx > 0.0) {
     // Along the arc asked for, as fast as stops short of its first cell.
-    const double k = clampd(want.wz / want.vx, -kMaxCurvature, kMaxCurvature);
+    const double k = clampd(want.wz / want.vx, -BodyGuard::kMaxCurvature, BodyGuard::kMaxCurvature);
     const double reach = stop_distance(want.vx);
     const double v = std::fmin(want.vx, speed_for(guard_.free_length(k, false, reach)));
     if (v >= want.vx || v >= kCreepMps) {
@@ -283,16 +278,17 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
     escaping_ = false;
     return t;
   }
-  const double horizon = std::fabs(want.wz) * cfg_.reaction_s + kTurnMarginRad;
+  const double horizon = std::fabs(want.wz) * cfg_.reaction_s + BodyGuard::kTurnMarginRad;
   if (guard_.rotation_clear(std::copysign(horizon, want.wz))) {
     t.wz = want.wz;
     escaping_ = false;
     return t;
   }
-  // A corner would touch: move straight, ahead or back, to the nearest place within kEscapeM
-  // from which the turn is clear (behind first: the robot came from there).
-  const double shift = guard_.escape_shift(std::copysign(horizon, want.wz), kEscapeStepM, kEscapeM,
-                                           stop_distance(cfg_.escape_speed_mps));
+  // A corner would touch: move straight, ahead or back, to the nearest place within
+  // BodyGuard::kEscapeM from which the turn is clear (behind first: the robot came from there).
+  const double shift =
+      guard_.escape_shift(std::copysign(horizon, want.wz), BodyGuard::kEscapeStepM,
+                          BodyGuard::kEscapeM, stop_distance(cfg_.escape_speed_mps));
   if (shift != 0.0) {
     if (!escaping_) ++escapes_;
     escaping_ = true;
