@@ -29,6 +29,9 @@ Status LocalisationConfig::validate() const {
       .range("lost_fit_ratio", lost_fit_ratio, 0.0, 1.0, "")
       .range("regain_fit_ratio", regain_fit_ratio, lost_fit_ratio, 1.0, "")
       .range("fit_average_alpha", fit_average_alpha, 1e-4, 1.0, "")
+      .range("regain_through_fraction", regain_through_fraction, 0.0, 1.0, "")
+      .range("lost_through_fraction", lost_through_fraction, regain_through_fraction, 1.0, "")
+      .range("through_margin_m", through_margin_m, 0.0, 10.0, "m")
       .range("regain_scans", double(regain_scans), 1.0, 10000.0, "scans")
       .range("regain_turn_rad", regain_turn_rad, 0.0, 100.0, "rad")
       .range("unlocalised_update_period_s", unlocalised_update_period_s, 0.0, 60.0, "s")
@@ -54,21 +57,30 @@ Localisation::Localisation(const LocalisationConfig& cfg, const OccupancyGrid* m
 
 void Localisation::take_estimate() {
   map_from_odom_ = mcl_->map_from_odom();
+  take_spread();
+  decide();
+}
+
+void Localisation::take_spread() {
   const Mat3& c = mcl_->covariance();
   // Largest standard deviation of the 2 x 2 position block (its larger eigenvalue).
   const double a = c(0, 0), b = c(0, 1), d = c(1, 1);
   const double l1 = 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
   tel_.sigma_xy_m = std::sqrt(std::max(0.0, l1));
   tel_.sigma_yaw_rad = std::sqrt(std::max(0.0, c(2, 2)));
-  decide();
 }
 
 // A tight cloud in the wrong place stays tight until injected particles have widened it, many
 // updates after a kidnap: the scan's fit at the published pose tells it at the first scan, before
 // the costmap marks that scan and before the missions act on the wrong pose.
 void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose) {
-  const double fit = mcl_->scan_fit(scan, compose(map_from_odom_, odom_pose), cfg_.lidar_mount);
+  const Pose2 pose = compose(map_from_odom_, odom_pose);
+  const double fit = mcl_->scan_fit(scan, pose, cfg_.lidar_mount);
   if (std::isnan(fit) || seen_updates_ == 0) return;  // no beam, or no estimate yet
+  tel_.through_fraction =
+      beams_through_walls(*map_, scan, pose, cfg_.lidar_mount, cfg_.mcl.max_beams,
+                          cfg_.mcl.laser_max_range_m, cfg_.through_margin_m)
+          .fraction();
   // Told where it starts, the first convergence needs no proof; spread over the map it does.
   const bool proven = ever_localised_ || cfg_.global;
   if (fit_decay_ >= 1.0) {
@@ -80,9 +92,12 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
   const double turn = std::abs(wrap_angle(odom_pose.yaw - last_fit_yaw_));
   last_fit_yaw_ = odom_pose.yaw;
   const bool was_localised = localised_;
+  bool wrong = false;  // a tight cloud that the scan contradicts
   if (localised_) {
-    fits_ = tel_.fit_ratio >= cfg_.lost_fit_ratio;
-  } else if (tel_.fit_ratio >= cfg_.regain_fit_ratio) {
+    fits_ = tel_.fit_ratio >= cfg_.lost_fit_ratio &&
+            tel_.through_fraction <= cfg_.lost_through_fraction;
+  } else if (tel_.fit_ratio >= cfg_.regain_fit_ratio &&
+             tel_.through_fraction <= cfg_.regain_through_fraction) {
     ++fitting_scans_;
     fitting_turn_rad_ += turn;
     fits_ =
@@ -91,14 +106,20 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
     fitting_scans_ = 0;
     fitting_turn_rad_ = 0.0;
     fits_ = !proven;
+    wrong = proven && tight() && tel_.through_fraction > cfg_.lost_through_fraction;
   }
   decide();
-  if (was_localised && !localised_) {
+  if ((was_localised && !localised_) || wrong) {
     fitting_scans_ = 0;
     fitting_turn_rad_ = 0.0;
-    if (cfg_.spread_when_lost && cfg_.mcl.alpha_slow > 0.0) {
+    // With recovery on (mcl.alpha_slow > 0) the robot may have been carried anywhere; a global
+    // start searches the whole map anyway, and a wrong convergence has no other way out.
+    const bool recovery = cfg_.mcl.alpha_slow > 0.0 || (wrong && cfg_.global);
+    if (cfg_.spread_when_lost && recovery) {
       mcl_->set_global();
+      take_spread();  // not tight until an update has drawn the particles together again
       ++tel_.spreads;
+      if (wrong) ++tel_.wrong_convergences;
     }
   }
   if (localised_) {
@@ -108,14 +129,18 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
   }
 }
 
-void Localisation::decide() {
+bool Localisation::tight() const {
   const double k = localised_ ? 2.0 : 1.0;  // hysteresis: lost only beyond twice the bounds
-  const bool tight = seen_updates_ > 0 && tel_.sigma_xy_m <= k * cfg_.localised_sigma_xy_m &&
-                     tel_.sigma_yaw_rad <= k * cfg_.localised_sigma_yaw_rad;
-  const bool ok = tight && fits_;
+  return seen_updates_ > 0 && tel_.sigma_xy_m <= k * cfg_.localised_sigma_xy_m &&
+         tel_.sigma_yaw_rad <= k * cfg_.localised_sigma_yaw_rad;
+}
+
+void Localisation::decide() {
+  const bool tight_now = tight();
+  const bool ok = tight_now && fits_;
   if (localised_ && !ok) {
     ++tel_.lost;
-    if (tight) ++tel_.lost_by_fit;
+    if (tight_now) ++tel_.lost_by_fit;
   }
   if (!localised_ && ok && ever_localised_) ++tel_.relocalisations;
   ever_localised_ = ever_localised_ || ok;

@@ -18,6 +18,7 @@
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 
+#include "firmware/estimation/BeamsThroughWalls.hpp"
 #include "firmware/estimation/MonteCarloLocalizer.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
@@ -45,6 +46,17 @@ struct LocalisationConfig {
   double lost_fit_ratio = 0.2;
   double regain_fit_ratio = 0.5;
   double fit_average_alpha = 0.02;  // weight of a new scan in that average (while localised)
+  // The likelihood scores where beams end, not what they pass: at a wrong pose among alike
+  // aisles a scan can score well with many returns beyond the map's walls (BeamsThroughWalls).
+  // A scan fits only with at most regain_through_fraction of its returns through a wall to
+  // regain (and to prove a global start, whose likelihood has nothing to be compared with),
+  // and at most lost_through_fraction to stay localised. Searching, a tight cloud whose scan
+  // crosses more than lost_through_fraction is a wrong convergence: spread again, as on a
+  // loss. Each return is walked from through_margin_m past the scanner to through_margin_m
+  // short of its end (the pose's error where a beam grazes a wall) [-], [-], [m].
+  double regain_through_fraction = 0.1;
+  double lost_through_fraction = 0.3;
+  double through_margin_m = 0.3;
   // Localised again only once the scans have fitted, in a row, while the robot turned
   // regain_turn_rad (a 180 deg lidar has then seen all round), or for regain_scans scans if it
   // cannot turn, and the spread is tight: in a house of similar rooms one view often fits a
@@ -76,13 +88,16 @@ struct LocalisationTelemetry {
   double sigma_yaw_rad = 0.0;  // its yaw spread [rad]
   int particles = 0;           // particles in the filter
   bool localised = true;
-  std::uint32_t lost = 0;             // times it went from localised to not
-  std::uint32_t lost_by_fit = 0;      // of those, the times the scans stopped fitting
-  std::uint32_t relocalisations = 0;  // times it was localised again after being lost
-  std::uint32_t spreads = 0;          // times the particles were spread afresh on a loss
+  std::uint32_t lost = 0;                // times it went from localised to not
+  std::uint32_t lost_by_fit = 0;         // of those, the times the scans stopped fitting
+  std::uint32_t relocalisations = 0;     // times it was localised again after being lost
+  std::uint32_t spreads = 0;             // times the particles were spread afresh on a loss
+  std::uint32_t wrong_convergences = 0;  // of those, spreads of a tight cloud a scan contradicted
   // The latest scan's per-beam likelihood at the published pose over its average (1 before
   // the first localisation).
   double fit_ratio = 1.0;
+  // The latest scan's returns through the map's walls at the published pose, of those checked.
+  double through_fraction = 0.0;
   MclTelemetry mcl;
 };
 
@@ -126,8 +141,12 @@ class Localisation {
   double fit_average_ = 0.0;         // running mean log p per beam while localised [log(1/m)]
   double fit_decay_ = 1.0;           // (1 - alpha)^scans averaged: the average's bias correction
   void check_fit(const hal::LaserScan& scan, const Pose2& odom_pose);
+  // The estimate's spread is within the localised bounds (twice them while localised).
+  bool tight() const;
   void decide();
   void take_estimate();
+  // The telemetry's spread from the filter's covariance.
+  void take_spread();
   mutable LocalisationTelemetry tel_;
 };
 

@@ -255,6 +255,12 @@ RunSummary SimRun::summary(double wall_time_s) {
     }
     r.relocalised_after_kidnaps_s = ls.relocalised_after_s;
     if (!ls.relocalised_after_s.empty()) r.relocalised_after_kidnap_s = ls.relocalised_after_s[0];
+    const fw::LocalisationTelemetry& lt = all.localisation;
+    r.localisation_counters = {{"lost", long(lt.lost)},
+                               {"lost_by_fit", long(lt.lost_by_fit)},
+                               {"relocalisations", long(lt.relocalisations)},
+                               {"spreads", long(lt.spreads)},
+                               {"wrong_convergences", long(lt.wrong_convergences)}};
   }
   r.mission = all.mission;
   for (const fw::MissionCounter& c : all.mission_counters) {

@@ -146,6 +146,11 @@ std::string summary_to_json(const RunSummary& s) {
     w.raw("relocalised_after_kidnaps_s", list + "]");
   }
   {
+    json::ObjectWriter counters;
+    for (const auto& [name, value] : s.localisation_counters) counters.integer(name, value);
+    w.raw("localisation_counters", counters.finish_inline());
+  }
+  {
     json::ObjectWriter tasks;
     for (const RunSummary::TaskTime& t : s.tasks) {
       json::ObjectWriter one;

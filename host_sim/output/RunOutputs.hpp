@@ -71,6 +71,9 @@ struct RunSummary {
   std::optional<double> time_to_converge_s;
   std::optional<double> relocalised_after_kidnap_s;                // the first kidnap's
   std::vector<std::optional<double>> relocalised_after_kidnaps_s;  // every kidnap's
+  // The firmware's localisation counters (empty without a map): lost, lost_by_fit,
+  // relocalisations, spreads, wrong_convergences (LocalisationTelemetry).
+  std::vector<std::pair<std::string, long>> localisation_counters;
   // coverage (null for other missions): the swept fraction of the area a robot of this size can
   // sweep from its start, the fraction of swept cells swept more than once, that area, the lower
   // bound on the time (area / (tool width x speed)) and the run's time over it.

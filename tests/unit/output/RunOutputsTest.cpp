@@ -119,6 +119,7 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "time_to_converge_s",
                                              "relocalised_after_kidnap_s",
                                              "relocalised_after_kidnaps_s",
+                                             "localisation_counters",
                                              "tasks"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
