@@ -37,6 +37,8 @@ Status GotoConfig::validate() const {
   Checks c("goto");
   c.range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
       .range("goal_tolerance_m", goal_tolerance_m, 0.005, 1.0, "m")
+      .range("goal_aim_m", goal_aim_m, 0.001, goal_tolerance_m, "m")
+      .range("approach_settle_s", approach_settle_s, 0.0, 60.0, "s")
       .range("yaw_tolerance_rad", yaw_tolerance_rad, 0.001, 1.0, "rad")
       .range("approach_m", approach_m, 0.05, 5.0, "m")
       .range("goal_clear_m", goal_clear_m, 0.0, 2.0, "m")
@@ -102,7 +104,10 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
 }
 
 void GotoMission::go(State s, const char* phase) {
-  if (s != state_) escaping_ = false;
+  if (s != state_) {
+    escaping_ = false;
+    settling_s_ = 0.0;
+  }
   phase_.set(phase, s != state_);
   state_ = s;
 }
@@ -221,7 +226,11 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
       bool arrived = false;
       MissionOutput out;
       out.motion.twist =
-          tracker_.approach(pose, goal_xy(), cfg_.speed_mps, 1.5, cfg_.goal_tolerance_m, arrived);
+          tracker_.approach(pose, goal_xy(), cfg_.speed_mps, 1.5, cfg_.goal_aim_m, arrived);
+      if (!arrived && (Vec2(pose.x, pose.y) - goal_xy()).norm() <= cfg_.goal_tolerance_m) {
+        settling_s_ += ctx.dt_s;
+        arrived = settling_s_ >= cfg_.approach_settle_s;
+      }
       if (!arrived) return out;
       if (last_goal() || cfg_.align_every_goal) {
         go(State::Align, "align");

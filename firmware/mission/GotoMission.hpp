@@ -66,6 +66,12 @@ struct GotoConfig {
   // Creep until this close [m]. Scenarios ask for 0.1 m of the true pose; at 0.08 the odometry's
   // 3 to 5 cm after a 14 m drive took goto_dead_end past it on 5 of 8 seeds.
   double goal_tolerance_m = 0.05;
+  // The approach aims this close to the goal, not at the edge of goal_tolerance_m (a stop there
+  // left every goal that far short); within goal_tolerance_m a creep that has not got there in
+  // approach_settle_s (the goal beside the robot, wheels too slow to move) counts as arrived
+  // [m], [s].
+  double goal_aim_m = 0.01;
+  double approach_settle_s = 1.5;
   double yaw_tolerance_rad = 0.07;  // turn until this close (the goal is 10 deg) [rad]
   double approach_m = 0.35;         // the last stretch, driven onto the goal [m]
   std::uint32_t plan_expansions_per_tick =
@@ -182,6 +188,7 @@ class GotoMission final : public Mission {
   std::uint32_t vff_fallbacks_ = 0;
   BodyGuard guard_;           // the lethal cells round the body, for the corner check
   bool escaping_ = false;     // moving straight to where a blocked turn is clear
+  double settling_s_ = 0.0;   // time in APPROACH within goal_tolerance_m, short of goal_aim_m [s]
   double escape_dir_ = -1.0;  // +1 ahead, -1 back
   Vec2 escape_from_{0.0, 0.0};
   double escape_m_ = 0.0;     // [m]

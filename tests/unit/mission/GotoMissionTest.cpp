@@ -118,6 +118,47 @@ TEST(GotoMissionTest, GoesRoundAWallOntoTheGoalPose) {
   EXPECT_EQ(r.mission->replans(), 0u);
 }
 
+// Stopping on the edge of goal_tolerance_m left every goal 5 cm short: the approach aims at the
+// goal itself (goal_aim_m) and gets within it.
+TEST(GotoMissionTest, TheApproachStopsOnTheGoalNotOnTheEdgeOfTheTolerance) {
+  Rig r(Pose2{2.0, 0.3, 0.0});
+  r.start();
+  r.run(60.0);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_LT(std::hypot(r.pose.x - 2.0, r.pose.y - 0.3), r.cfg.goal_aim_m + 0.002)
+      << r.pose.x << ", " << r.pose.y;
+}
+
+// Wheels that do not turn at a creep (a drive's deadband: below 3 cm/s nothing moves): the
+// approach settles within goal_tolerance_m for approach_settle_s and calls the goal reached
+// instead of creeping for ever.
+TEST(GotoMissionTest, ACreepThatCannotCloseInSettlesWithinTheTolerance) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.start();
+  MissionOutput out;
+  double within_s = 0.0;  // time spent within goal_tolerance_m before Done
+  for (int i = 0; i < 6000; ++i) {
+    r.odom.publish(OdometryMsg{r.pose, {}}, i);
+    r.ctx.t_s = i * 0.01;
+    r.ctx.dt_s = 0.01;
+    r.ctx.drives_ready = true;
+    out = r.mission->update(r.ctx);
+    const MissionStatus st = r.mission->state().status;
+    if (st == MissionStatus::Done || st == MissionStatus::Failed) break;
+    if (std::hypot(r.pose.x - 2.0, r.pose.y) <= r.cfg.goal_tolerance_m) within_s += 0.01;
+    Twist t = out.motion.twist;
+    if (std::fabs(t.vx) < 0.03) t.vx = 0.0;
+    r.pose.x += std::cos(r.pose.yaw) * t.vx * 0.01;
+    r.pose.y += std::sin(r.pose.yaw) * t.vx * 0.01;
+    r.pose.yaw = wrap_angle(r.pose.yaw + t.wz * 0.01);
+  }
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Done);
+  const double d = std::hypot(r.pose.x - 2.0, r.pose.y);
+  EXPECT_LE(d, r.cfg.goal_tolerance_m);
+  EXPECT_GT(d, r.cfg.goal_aim_m);  // it never got to the aim
+  EXPECT_NEAR(within_s, r.cfg.approach_settle_s, 0.05);
+}
+
 TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
   Rig r(Pose2{2.5, 0.0, 0.0});
   r.start();
