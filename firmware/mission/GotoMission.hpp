@@ -63,8 +63,9 @@ struct GotoConfig {
   PurePursuitConfig pure_pursuit;
   VffConfig vff;
   PathTrackerConfig tracker;
-  // Creep until this close [m]. Scenarios ask for 0.1 m of the true pose; at 0.08 the odometry's
-  // 3 to 5 cm after a 14 m drive took goto_dead_end past it on 5 of 8 seeds.
+  // A goal counts as reached this close, and the approach settles for it [m]. Scenarios ask for
+  // 0.1 m of the true pose; at 0.08 the odometry's 3 to 5 cm after a 14 m drive took
+  // goto_dead_end past it on 5 of 8 seeds.
   double goal_tolerance_m = 0.05;
   // The approach aims this close to the goal, not at the edge of goal_tolerance_m (a stop there
   // left every goal that far short); within goal_tolerance_m a creep that has not got there in
