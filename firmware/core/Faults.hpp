@@ -26,6 +26,8 @@ enum class Fault : std::uint8_t {
   GoalInvalid,         // goto: the goal is outside the costmap or inside an obstacle
   NoCoverageArea,      // coverage: no free cell to cover (no static map, or the area eroded by
                        // the robot's radius holds no cell where it fits)
+  NotLocalised,        // on a map, the pose stayed unlocalised (the mission held) longer than
+                       // runner.max_unlocalised_s
   Count,
 };
 
@@ -67,6 +69,8 @@ inline const char* fault_name(Fault f) {
       return "goal_invalid";
     case Fault::NoCoverageArea:
       return "no_coverage_area";
+    case Fault::NotLocalised:
+      return "not_localised";
     case Fault::Count:
       break;
   }

@@ -17,6 +17,7 @@ Status MissionRunnerConfig::validate() const {
       .nested(obstacle.validate())
       .range("lost_turn_radps", lost_turn_radps, 0.0, 2.0, "rad/s")
       .range("lost_turn_clearance_m", lost_turn_clearance_m, 0.0, 1.0, "m")
+      .range("max_unlocalised_s", max_unlocalised_s, 0.0, 86400.0, "s")
       .result();
 }
 
@@ -48,6 +49,7 @@ MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, in
       odom_(odom),
       lost_turn_radps_(cfg.lost_turn_radps),
       lost_turn_clearance_m_(cfg.lost_turn_clearance_m),
+      max_unlocalised_s_(cfg.max_unlocalised_s),
       imu_present_(imu_present) {}
 
 // The motion while the mission is held: still, or a turn in place when there is room for one.
@@ -78,11 +80,18 @@ void MissionRunner::run() {
   }
   if (pose_ != nullptr && !pose_->get().localised) {
     ++tel_.unlocalised_ticks;
+    unlocalised_s_ += period_s_;
+    if (max_unlocalised_s_ > 0.0 && unlocalised_s_ > max_unlocalised_s_) {
+      faults_.raise(Fault::NotLocalised, 0, "held");
+      out_.publish(MotionRequest{}, f.now_ns);
+      return;
+    }
     const MotionRequest m = held();
     if (m.twist.wz != 0.0) ++tel_.lost_turn_ticks;
     out_.publish(m, f.now_ns);
     return;
   }
+  unlocalised_s_ = 0.0;
   if (pose_ != nullptr && pose_->get().relocalisations != seen_relocalisations_) {
     seen_relocalisations_ = pose_->get().relocalisations;
     ++tel_.relocalisations;

@@ -32,6 +32,10 @@ struct MissionRunnerConfig {
   // lidar point is at least this far beyond that circle (the lidar sees only its field of view;
   // behind the robot it trusts the room it came through) [m].
   double lost_turn_clearance_m = 0.05;
+  // Held unlocalised this long in a row (never localised since the start, or lost since), the
+  // robot gives up with the fault not_localised: a safe stop an operator sees, not a wait with
+  // no end. 0: it waits for ever [s].
+  double max_unlocalised_s = 0.0;
 
   Status validate() const;
 };
@@ -91,6 +95,8 @@ class MissionRunner {
   const Topic<ObstacleField>& obstacles_;
   const Topic<OdometryMsg>& odom_;
   double lost_turn_radps_, lost_turn_clearance_m_;
+  double max_unlocalised_s_;
+  double unlocalised_s_ = 0.0;  // held unlocalised in a row [s]
   const Topic<OdometryMsg>* pose_ = nullptr;
   std::uint32_t seen_relocalisations_ = 0;
   MotionRequest held() const;

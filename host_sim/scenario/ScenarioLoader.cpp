@@ -407,8 +407,8 @@ ExpectSpec parse_expect(const Node& m) {
     e.max_goal_yaw_error_deg = n->number(Range::open_closed(0.0, 180.0));
   }
   if (auto n = m.get("fault")) {
-    e.fault = n->one_of(
-        {"no_path", "goal_invalid", "path_blocked", "line_not_found", "no_coverage_area"});
+    e.fault = n->one_of({"no_path", "goal_invalid", "path_blocked", "line_not_found",
+                         "no_coverage_area", "not_localised"});
   }
   if (auto n = m.get("min_coverage")) e.min_coverage = n->number(Range::closed(0.0, 1.0));
   if (auto n = m.get("max_coverage_time_ratio")) {

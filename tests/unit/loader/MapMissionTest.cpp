@@ -121,6 +121,9 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   // Told where it starts, it waits still while not localised.
   EXPECT_FALSE(c.localisation.search_while_unlocalised);
   EXPECT_EQ(c.runner.lost_turn_radps, 0.0);
+  // Held unlocalised for a minute, it gives up with not_localised (the runner's default waits).
+  EXPECT_EQ(c.runner.max_unlocalised_s, 60.0);
+  EXPECT_EQ(b.config.runner.max_unlocalised_s, 0.0);
 
   // No initial pose: the given default; recovery on keeps MclConfig's rates.
   LocalisationStartSpec start;

@@ -246,5 +246,49 @@ TEST(MissionRunnerTest, LostItTurnsInPlaceOnlyWithRoomToTurnAndPassesAJumpOnOnce
   EXPECT_EQ(r.mission.contexts.size(), 3U);
 }
 
+// Held unlocalised longer than max_unlocalised_s in a row, the runner gives up with the fault
+// not_localised (a safe stop an operator sees); a spell localised in between starts the count
+// again, and 0 waits for ever.
+TEST(MissionRunnerTest, HeldUnlocalisedTooLongEndsInNotLocalised) {
+  for (const double limit : {0.5, 0.0}) {
+    Rig r;
+    MissionRunnerConfig cfg;
+    cfg.max_unlocalised_s = limit;
+    ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
+    MissionRunner runner{cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
+    Topic<OdometryMsg> pose;
+    runner.watch_pose(pose);
+    auto tick = [&](int k, bool localised) {
+      pose.edit().localised = localised;
+      pose.publish(0);
+      SensorFrame& f = r.frame.edit();
+      f.now_ns = hal::TimeNs(k) * 10'000'000;
+      f.wheels.count = 2;
+      for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
+      r.frame.publish(f.now_ns);
+      runner.run();
+    };
+    r.mission.next.motion.twist = {0.3, 0.0, 0.0};
+    int k = 0;
+    // 0.4 s lost, 0.02 s localised, 0.4 s lost: never 0.5 s in a row.
+    for (; k < 40; ++k) tick(k, false);
+    tick(k++, true);
+    tick(k++, true);
+    for (int n = 0; n < 40; ++n) tick(k++, false);
+    EXPECT_TRUE(r.sink.raised.empty()) << limit;
+    // Then lost for good: the fault once past 0.5 s, and a still robot from then on.
+    for (int n = 0; n < 100; ++n) tick(k++, false);
+    if (limit > 0.0) {
+      ASSERT_EQ(r.sink.raised.size(), 1U);
+      EXPECT_EQ(r.sink.raised[0].f, Fault::NotLocalised);
+      EXPECT_STREQ(fault_name(Fault::NotLocalised), "not_localised");
+    } else {
+      EXPECT_TRUE(r.sink.raised.empty());
+    }
+    EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+    EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace carril::fw
