@@ -222,37 +222,52 @@ std::vector<std::uint8_t> two_rooms(MapInfo& info) {
   return c;
 }
 
-// A global start in room A, turning in place (150 scans, 0.6 rad each): the localisation at the
-// end and its telemetry. through_check false turns the walls check off.
+// The two-room tests' filter: a 0.2 m hit model, no random injection (the loader's default);
+// through_check false turns the walls check off.
+LocalisationConfig two_rooms_config(bool through_check) {
+  LocalisationConfig cfg;
+  cfg.enabled = true;
+  cfg.mcl.max_particles = 3000;
+  cfg.mcl.sigma_hit_m = 0.2;
+  cfg.mcl.laser_max_range_m = 8.0;
+  cfg.mcl.alpha_slow = cfg.mcl.alpha_fast = 0.0;
+  if (!through_check) cfg.regain_through_fraction = cfg.lost_through_fraction = 1.0;
+  return cfg;
+}
+
+// The robot turns in place in room A at (1.6, 1.5), n scans of 0.6 rad each: the published pose
+// after each scan, and the telemetry at the end.
+std::vector<OdometryMsg> turn_in_room_a(const OccupancyGrid& map, const LocalisationConfig& cfg,
+                                        int n, LocalisationTelemetry& tel) {
+  EXPECT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
+  Rig r;
+  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
+  Turn turn{r, l, map};
+  double yaw = 0.0;
+  std::vector<OdometryMsg> out;
+  out.reserve(std::size_t(n));
+  turn.run({1.6, 1.5, 0.0}, yaw, n, out);
+  tel = l.telemetry();
+  return out;
+}
+
+// A global start in room A (150 scans): the localisation at the end and its telemetry.
 struct GlobalRun {
   OdometryMsg last;
   LocalisationTelemetry tel;
   bool localised_in_b = false;  // localised at some scan with the pose in room B
 };
 GlobalRun global_start(const OccupancyGrid& map, std::uint64_t seed, bool through_check) {
-  Rig r;
-  LocalisationConfig cfg;
-  cfg.enabled = true;
+  LocalisationConfig cfg = two_rooms_config(through_check);
   cfg.global = true;
-  cfg.mcl.max_particles = 3000;
-  cfg.mcl.sigma_hit_m = 0.2;
-  cfg.mcl.laser_max_range_m = 8.0;
-  cfg.mcl.alpha_slow = cfg.mcl.alpha_fast = 0.0;  // no random injection (the loader's default)
   cfg.mcl.seed = seed;
   cfg.search_while_unlocalised = true;
-  if (!through_check) cfg.regain_through_fraction = cfg.lost_through_fraction = 1.0;
-  EXPECT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
-  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
-  Turn turn{r, l, map};
-  double yaw = 0.0;
-  std::vector<OdometryMsg> out;
-  out.reserve(150);
-  turn.run({1.6, 1.5, 0.0}, yaw, 150, out);
   GlobalRun g;
-  for (const OdometryMsg& m : out)
+  const std::vector<OdometryMsg> out = turn_in_room_a(map, cfg, 150, g.tel);
+  for (const OdometryMsg& m : out) {
     g.localised_in_b = g.localised_in_b || (m.localised && m.pose.x > 5.0);
+  }
   g.last = out.back();
-  g.tel = l.telemetry();
   return g;
 }
 
@@ -283,26 +298,12 @@ TEST(Localisation, AGlobalStartIsNotProvenInARoomWhoseWallsTheScansPassThrough) 
 // localised in B. Returns the pose after each of 20 scans.
 std::vector<OdometryMsg> told_room_b(const OccupancyGrid& map, bool through_check,
                                      LocalisationTelemetry& tel) {
-  Rig r;
-  LocalisationConfig cfg;
-  cfg.enabled = true;
+  LocalisationConfig cfg = two_rooms_config(through_check);
   cfg.initial_pose = {6.6, 1.5, 0.0};
   cfg.initial_sigma_xy_m = 0.05;
   cfg.initial_sigma_yaw_rad = 0.05;
   cfg.mcl.max_particles = 2000;
-  cfg.mcl.sigma_hit_m = 0.2;
-  cfg.mcl.laser_max_range_m = 8.0;
-  cfg.mcl.alpha_slow = cfg.mcl.alpha_fast = 0.0;
-  if (!through_check) cfg.regain_through_fraction = cfg.lost_through_fraction = 1.0;
-  EXPECT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
-  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
-  Turn turn{r, l, map};
-  double yaw = 0.0;
-  std::vector<OdometryMsg> out;
-  out.reserve(20);
-  turn.run({1.6, 1.5, 0.0}, yaw, 20, out);
-  tel = l.telemetry();
-  return out;
+  return turn_in_room_a(map, cfg, 20, tel);
 }
 
 TEST(Localisation, LocalisedWhereTheScansPassThroughTheMapsWallsItIsLost) {
