@@ -227,7 +227,10 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
       MissionOutput out;
       out.motion.twist =
           tracker_.approach(pose, goal_xy(), cfg_.speed_mps, 1.5, cfg_.goal_aim_m, arrived);
-      if (!arrived && (Vec2(pose.x, pose.y) - goal_xy()).norm() <= cfg_.goal_tolerance_m) {
+      // Settles only for time spent within the tolerance in a row.
+      if ((Vec2(pose.x, pose.y) - goal_xy()).norm() > cfg_.goal_tolerance_m) {
+        settling_s_ = 0.0;
+      } else if (!arrived) {
         settling_s_ += ctx.dt_s;
         arrived = settling_s_ >= cfg_.approach_settle_s;
       }

@@ -159,6 +159,38 @@ TEST(GotoMissionTest, ACreepThatCannotCloseInSettlesWithinTheTolerance) {
   EXPECT_NEAR(within_s, r.cfg.approach_settle_s, 0.05);
 }
 
+// The settling counts time within the tolerance in a row: pushed out of it after 1 s, the robot
+// comes back and settles for the whole approach_settle_s again.
+TEST(GotoMissionTest, PushedOutOfTheToleranceTheSettlingStartsAgain) {
+  Rig r(Pose2{2.0, 0.0, 0.0});
+  r.start();
+  double within_s = 0.0;
+  bool pushed = false;
+  for (int i = 0; i < 6000; ++i) {
+    r.odom.publish(OdometryMsg{r.pose, {}}, i);
+    r.ctx.t_s = i * 0.01;
+    r.ctx.dt_s = 0.01;
+    r.ctx.drives_ready = true;
+    const MissionOutput out = r.mission->update(r.ctx);
+    const MissionStatus st = r.mission->state().status;
+    if (st == MissionStatus::Done || st == MissionStatus::Failed) break;
+    if (std::hypot(r.pose.x - 2.0, r.pose.y) <= r.cfg.goal_tolerance_m) within_s += 0.01;
+    if (!pushed && within_s >= 1.0) {
+      r.pose.x -= 0.1;  // a bump: 0.1 m back, out of the tolerance
+      pushed = true;
+      continue;
+    }
+    Twist t = out.motion.twist;
+    if (std::fabs(t.vx) < 0.03) t.vx = 0.0;  // the same dead wheels below 3 cm/s
+    r.pose.x += std::cos(r.pose.yaw) * t.vx * 0.01;
+    r.pose.y += std::sin(r.pose.yaw) * t.vx * 0.01;
+    r.pose.yaw = wrap_angle(r.pose.yaw + t.wz * 0.01);
+  }
+  ASSERT_TRUE(pushed);
+  ASSERT_EQ(r.mission->current(), GotoMission::State::Done);
+  EXPECT_NEAR(within_s, 1.0 + r.cfg.approach_settle_s, 0.05);
+}
+
 TEST(GotoMissionTest, ReplansWhenAWallAppearsOnThePath) {
   Rig r(Pose2{2.5, 0.0, 0.0});
   r.start();
