@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "firmware/estimation/ScanBeams.hpp"
 #include "firmware/mapping/CostValues.hpp"
 
 namespace carril::fw {
@@ -45,18 +46,7 @@ BeamsThroughWalls beams_through_walls(const OccupancyGrid& map, const hal::Laser
                                       const Pose2& pose, const Pose2& laser_mount, int max_beams,
                                       double max_range_m, double margin_m) {
   BeamsThroughWalls out;
-  if (map.empty() || max_beams <= 0) return out;
-  const double rmin = double(scan.range_min_m);
-  const double rmax = std::min(double(scan.range_max_m), max_range_m);
-  const int count = std::min(int(scan.count), hal::kMaxScanBeams);
-  const auto valid = [&](int k) {
-    const double r = double(scan.ranges_m[std::size_t(k)]);
-    return std::isfinite(r) && r >= rmin && r < rmax;
-  };
-  long nv = 0;
-  for (int k = 0; k < count; ++k) nv += valid(k) ? 1 : 0;
-  if (nv == 0) return out;
-  const long nb = std::min(nv, long(max_beams));
+  if (map.empty()) return out;
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   const double inv_res = 1.0 / map.resolution();
   // The sensor in cell units.
@@ -65,15 +55,9 @@ BeamsThroughWalls beams_through_walls(const OccupancyGrid& map, const hal::Laser
   const double sy =
       (pose.y + s * laser_mount.x + c * laser_mount.y - map.info().origin_y_m) * inv_res;
   const double yaw0 = pose.yaw + laser_mount.yaw;
-  long rank = 0, picked = 0;
-  for (int k = 0; k < count && picked < nb; ++k) {
-    if (!valid(k)) continue;
-    // The same pick as the filter's: the valid beam of rank (2 p + 1) nv / (2 nb).
-    if (rank++ != (2 * picked + 1) * nv / (2 * nb)) continue;
-    ++picked;
-    ++out.checked;
+  out.checked = for_each_weighed_beam(scan, max_range_m, max_beams, [&](int k) {
     const double r = double(scan.ranges_m[std::size_t(k)]);
-    if (r <= 2.0 * margin_m) continue;  // nothing left between the margins
+    if (r <= 2.0 * margin_m) return;  // nothing left between the margins
     const double a =
         yaw0 + double(scan.angle_min_rad) + double(k) * double(scan.angle_increment_rad);
     const double ux = std::cos(a) * inv_res, uy = std::sin(a) * inv_res;
@@ -81,7 +65,7 @@ BeamsThroughWalls beams_through_walls(const OccupancyGrid& map, const hal::Laser
     if (crosses_occupied(map, sx + t0 * ux, sy + t0 * uy, sx + t1 * ux, sy + t1 * uy)) {
       ++out.through;
     }
-  }
+  });
   return out;
 }
 

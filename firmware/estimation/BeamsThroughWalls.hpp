@@ -18,8 +18,8 @@ struct BeamsThroughWalls {
   double fraction() const { return checked > 0 ? double(through) / double(checked) : 0.0; }
 };
 
-// Walks up to max_beams of the scan's valid returns (range_min <= r < min(range_max,
-// max_range_m), evenly spaced among them, as the filter picks them) through the map's cells from
+// Walks the returns an update weighs (for_each_weighed_beam, ScanBeams.hpp: up to max_beams
+// valid ones, evenly spaced) through the map's cells from
 // margin_m past the sensor to margin_m short of the return, exactly (every cell the segment
 // touches); a beam counts as through if one of those cells is occupied (cost::kLethal). The
 // margins absorb the pose's error and the map's resolution where a beam grazes a wall; unknown

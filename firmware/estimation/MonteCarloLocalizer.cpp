@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 
+#include "firmware/estimation/ScanBeams.hpp"
 #include "firmware/mapping/CostValues.hpp"
 
 namespace carril::fw {
@@ -132,17 +133,12 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
     const double a = std::abs(wrap_angle(odom_pose.yaw - odom_.yaw));
     if (d < cfg_.update_min_d_m && a < cfg_.update_min_a_rad) return false;
   }
-  // Valid beams: finite, within the scan's limits and below the configured range (quiet
-  // comparisons: a driver's NaN limit must not trap).
-  const float rmin = scan.range_min_m;
-  const float rmax = std::fmin(scan.range_max_m, float(cfg_.laser_max_range_m));
+  // Valid beams (ScanBeams.hpp).
+  const ValidReturn valid(scan, cfg_.laser_max_range_m);
   const int count = std::min(int(scan.count), hal::kMaxScanBeams);
   int nv = 0;
   for (int i = 0; i < count; ++i) {
-    const float r = scan.ranges_m[std::size_t(i)];
-    if (std::isfinite(r) && std::isgreaterequal(r, rmin) && std::isless(r, rmax)) {
-      valid_[std::size_t(nv++)] = std::uint16_t(i);
-    }
+    if (valid(scan.ranges_m[std::size_t(i)])) valid_[std::size_t(nv++)] = std::uint16_t(i);
   }
   if (nv == 0) return false;
   nv = skip_unmapped(scan, odom_pose, laser_mount, nv);
@@ -217,31 +213,16 @@ double MonteCarloLocalizer::scan_fit(const hal::LaserScan& scan, const Pose2& po
   if (!status_) return std::nan("");
   // The same valid beams as begin_update's, the same even spacing, without its buffers (an
   // update may be using them).
-  const float rmin = scan.range_min_m;
-  const float rmax = std::fmin(scan.range_max_m, float(cfg_.laser_max_range_m));
-  const int count = std::min(int(scan.count), hal::kMaxScanBeams);
-  const auto valid = [&](int i) {
-    const float r = scan.ranges_m[std::size_t(i)];
-    return std::isfinite(r) && std::isgreaterequal(r, rmin) && std::isless(r, rmax);
-  };
-  long nv = 0;
-  for (int i = 0; i < count; ++i) nv += valid(i) ? 1 : 0;
-  if (nv == 0) return std::nan("");
-  const long nb = std::min(nv, long(cfg_.max_beams));
   const Vec2 sensor = to_world(pose, Vec2(laser_mount.x, laser_mount.y));
   const double yaw0 = pose.yaw + laser_mount.yaw;
   double sum = 0.0;
-  long rank = 0, k = 0;
-  for (int i = 0; i < count && k < nb; ++i) {
-    if (!valid(i)) continue;
-    // The k-th beam weighed is the valid one of rank (2k + 1) nv / (2 nb).
-    if (rank++ != (2 * k + 1) * nv / (2 * nb)) continue;
-    ++k;
+  const int k = for_each_weighed_beam(scan, cfg_.laser_max_range_m, cfg_.max_beams, [&](int i) {
     const double a =
         yaw0 + double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
     const double r = double(scan.ranges_m[std::size_t(i)]);
     sum += double(field_.log_p(sensor.x() + r * std::cos(a), sensor.y() + r * std::sin(a)));
-  }
+  });
+  if (k == 0) return std::nan("");
   return sum / double(k);
 }
 
