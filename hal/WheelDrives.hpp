@@ -9,7 +9,7 @@ namespace carril::hal {
 // The outcome of WheelDrives::init(): ok, or which drive failed and why, in fixed-size text (no
 // heap; init runs where exceptions are off).
 struct DriveInitResult {
-  static constexpr int kMaxText = 160;
+  static constexpr int kMaxText = 256;  // the longest configuration error with its prefix is 174
 
   bool ok = true;
   int drive = -1;            // index of the drive that failed; -1 none, or not one drive

@@ -253,7 +253,7 @@ Goal CanopenWheelDrives::goal_of(int) const {
 }
 
 void CanopenWheelDrives::check_faults(TimeNs now) {
-  char since[24];
+  char since[32];  // "%lld.%03lld s" of any long long fits (GCC checks it at -O0)
   for (int i = 0; i < cfg_.wheels; ++i) {
     Drive& d = drive_[i];
     const State s = d.sw_heard ? cia402::decode_statusword(d.statusword) : State::Unknown;

@@ -95,7 +95,8 @@ struct FlushOnExit {
 
 class CanopenWheelDrives final : public WheelDrives {
  public:
-  static constexpr int kMaxText = 160;
+  // Holds the longest message, 166 bytes with every value at its widest.
+  static constexpr int kMaxText = 256;
 
   enum class BringUp : std::uint8_t { Running, Done, Failed };
 
