@@ -215,7 +215,7 @@ Rgb parse_color(const Node& n, std::string* name_out) {
 void parse_localisation_start(const Node& m, std::initializer_list<const char*> extra_keys,
                               LocalisationStartSpec& out) {
   std::vector<std::string> keys{"initial_pose", "global", "initial_sigma_xy_m",
-                                "initial_sigma_yaw_deg", "recovery"};
+                                "initial_sigma_yaw_deg", "recovery", "max_unlocalised_s"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   m.expect_map(keys);
   if (auto n = m.get("initial_sigma_xy_m")) {
@@ -225,6 +225,9 @@ void parse_localisation_start(const Node& m, std::initializer_list<const char*> 
     out.initial_sigma_yaw_rad = n->number(Range::closed(0.5, 180.0)) * std::numbers::pi / 180.0;
   }
   if (auto n = m.get("recovery")) out.recovery = n->boolean();
+  if (auto n = m.get("max_unlocalised_s")) {
+    out.max_unlocalised_s = n->number(Range::closed(0.0, 86400.0));
+  }
   if (auto n = m.get("initial_pose")) {
     out.initial_pose = parse_goal(*n);
     out.has_initial_pose = true;

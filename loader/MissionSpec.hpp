@@ -29,6 +29,7 @@ struct LocalisationStartSpec {
   double initial_sigma_xy_m = 0.3;     // spread of the particles round initial_pose [m]
   double initial_sigma_yaw_rad = 0.2;  // [rad] (written in degrees)
   bool recovery = false;  // augmented MCL's random injection (needed to recover from a kidnap)
+  double max_unlocalised_s = 60.0;  // held unlocalised this long: fault not_localised; 0 never [s]
 };
 
 struct MissionSpec {

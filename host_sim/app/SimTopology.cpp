@@ -46,6 +46,7 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
     start.recovery = s.localisation.recovery;
     start.initial_sigma_xy_m = s.localisation.initial_sigma_xy_m;
     start.initial_sigma_yaw_rad = s.localisation.initial_sigma_yaw_rad;
+    start.max_unlocalised_s = s.localisation.max_unlocalised_s;
     const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
     loader::configure_for_map(s.robot, start, {p.x, p.y, p.yaw_rad}, c);
     c.localisation.mcl.seed = seed;

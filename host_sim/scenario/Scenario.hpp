@@ -142,6 +142,7 @@ struct LocalisationSpec {
   double initial_sigma_xy_m = 0.3;     // the spread of the particles round it [m]
   double initial_sigma_yaw_rad = 0.2;  // [rad]
   bool recovery = false;  // augmented MCL's random injection (needed to recover from a kidnap)
+  double max_unlocalised_s = 60.0;  // held unlocalised this long: fault not_localised; 0 never [s]
   std::vector<KidnapSpec> kidnaps;
 };
 

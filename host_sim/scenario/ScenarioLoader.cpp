@@ -341,6 +341,7 @@ LocalisationSpec parse_localisation(const Node& m) {
   l.initial_sigma_xy_m = start.initial_sigma_xy_m;
   l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
   l.recovery = start.recovery;
+  l.max_unlocalised_s = start.max_unlocalised_s;
   l.global = start.global;
   if (start.has_initial_pose) {
     l.initial_pose =

@@ -140,5 +140,26 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   EXPECT_GT(d.runner.lost_turn_radps, 0.0);
 }
 
+// How long the robot may stay unlocalised is the mission's to say (a large site may need more
+// than the minute); 0 waits for ever. Out of range is refused, naming the key.
+TEST(MapMission, TheMissionSetsHowLongTheRobotMayStayUnlocalised) {
+  const std::string head = "type: goto\nmap: m.yaml\ngoal: {x: 1, y: 2, yaw_deg: 0}\n";
+  const RobotSpec r = robot("pioneer3at");
+  for (const auto& [text, want] : {std::pair<const char*, double>{"150", 150.0}, {"0", 0.0}}) {
+    const Loaded l = load(head + "localisation: {global: true, max_unlocalised_s: " + text + "}\n");
+    ASSERT_TRUE(l.ok) << l.error;
+    BuildResult b = build_firmware_config(r, l.mission);
+    ASSERT_TRUE(b.ok) << b.error;
+    configure_for_map(r, l.mission.localisation, {}, b.config);
+    EXPECT_EQ(b.config.runner.max_unlocalised_s, want) << text;
+    EXPECT_TRUE(b.config.runner.validate()) << text;
+  }
+  for (const char* bad : {"-1", "1e6", "soon"}) {
+    const Loaded l = load(head + "localisation: {max_unlocalised_s: " + bad + "}\n");
+    EXPECT_FALSE(l.ok) << bad;
+    EXPECT_NE(l.error.find("localisation.max_unlocalised_s"), std::string::npos) << l.error;
+  }
+}
+
 }  // namespace
 }  // namespace carril::loader

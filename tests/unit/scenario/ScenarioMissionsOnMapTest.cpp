@@ -45,6 +45,7 @@ TEST(ScenarioMissionsOnMap, ReadsLocalisationKidnapsAndOdometryDrift) {
   initial_sigma_xy_m: 1.0
   initial_sigma_yaw_deg: 40
   recovery: true
+  max_unlocalised_s: 90
   kidnap:
     - {t_s: 5, x: 1.3, y: -2.05, yaw_deg: 90}
     - {t_s: 9, x: 0, y: 0, yaw_deg: 0}
@@ -57,6 +58,7 @@ odometry: {wheel_radius_error: 0.02, slip: 0.05}
   EXPECT_NEAR(l.initial_pose->yaw_rad, 0.5235987755982988, 1e-12);
   EXPECT_DOUBLE_EQ(l.initial_sigma_xy_m, 1.0);
   EXPECT_TRUE(l.recovery);
+  EXPECT_DOUBLE_EQ(l.max_unlocalised_s, 90.0);
   ASSERT_EQ(l.kidnaps.size(), 2U);
   EXPECT_DOUBLE_EQ(l.kidnaps[0].t_s, 5.0);
   EXPECT_DOUBLE_EQ(l.kidnaps[0].to.y, -2.05);
