@@ -1,6 +1,7 @@
 #pragma once
 // Fixed-capacity vector: storage inline, never allocates. push_back on a full vector is a
-// programming error (assert) and is refused (returns false) in release builds.
+// programming error (assert) and is refused (returns false) in release builds; try_push_back is
+// for callers to whom a full vector is an input they handle (a path longer than its output).
 #include <array>
 #include <cassert>
 #include <cstddef>
@@ -18,6 +19,12 @@ class StaticVector {
 
   constexpr bool push_back(const T& v) {
     assert(size_ < N && "StaticVector full");
+    if (size_ >= N) return false;
+    data_[size_++] = v;
+    return true;
+  }
+  // Appends v; false, and nothing appended, when full.
+  constexpr bool try_push_back(const T& v) {
     if (size_ >= N) return false;
     data_[size_++] = v;
     return true;

@@ -40,7 +40,7 @@ void BodyGuard::gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid)
       if (!grid.contains(cx, cy) || grid.at(cx, cy) != cost::kLethal) continue;
       const double dx = grid.center_of(cx) - pose.x, dy = grid.center_of(cy) - pose.y;
       if (dx * dx + dy * dy > r2) continue;
-      if (!cells_.push_back(Cell{float(c * dx + s * dy), float(-s * dx + c * dy)})) {
+      if (!cells_.try_push_back(Cell{float(c * dx + s * dy), float(-s * dx + c * dy)})) {
         crowded_ = true;
         return;
       }

@@ -131,7 +131,7 @@ class Boustrophedon {
   using PushFn = bool (*)(void* out, const Vec2& p);
   template <std::size_t N>
   static bool push_point(void* out, const Vec2& p) {
-    return static_cast<StaticVector<Vec2, N>*>(out)->push_back(p);
+    return static_cast<StaticVector<Vec2, N>*>(out)->try_push_back(p);
   }
   bool route_impl(const CellVisit& v, void* out, PushFn push) const;
   bool push_arc(void* out, PushFn push, const Vec2& c, double r, double a0, double a1, double vy,

@@ -28,7 +28,7 @@ bool cells_to_waypoints(const GridCell* cells, std::size_t n, double origin_x, d
       const int dx1 = cells[i + 1].x - cells[i].x, dy1 = cells[i + 1].y - cells[i].y;
       if (dx0 == dx1 && dy0 == dy1) continue;  // inside a straight run
     }
-    if (!out.push_back(cell_center(cells[i], origin_x, origin_y, resolution_m))) return false;
+    if (!out.try_push_back(cell_center(cells[i], origin_x, origin_y, resolution_m))) return false;
   }
   return true;
 }

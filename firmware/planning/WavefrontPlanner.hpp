@@ -105,7 +105,7 @@ class WavefrontPlanner {
   using PushFn = bool (*)(void* out, GridCell c);
   template <std::size_t N>
   static bool push_cell(void* out, GridCell c) {
-    return static_cast<StaticVector<GridCell, N>*>(out)->push_back(c);
+    return static_cast<StaticVector<GridCell, N>*>(out)->try_push_back(c);
   }
   PathResult extract_impl(int sx, int sy, void* out, PushFn push) const;
 

@@ -57,6 +57,18 @@ TEST(StaticVectorTest, PushOnFullIsRefused) {
 #endif
 }
 
+// A full vector met as an input condition (a path longer than its output): refused without the
+// assert, in every build type.
+TEST(StaticVectorTest, TryPushOnFullIsRefusedInEveryBuild) {
+  StaticVector<int, 2> v;
+  EXPECT_TRUE(v.try_push_back(1));
+  EXPECT_TRUE(v.try_push_back(2));
+  EXPECT_FALSE(v.try_push_back(3));
+  EXPECT_EQ(v.size(), 2U);
+  EXPECT_EQ(v[0], 1);
+  EXPECT_EQ(v[1], 2);
+}
+
 TEST(StaticVectorTest, ClearEmptiesAndAllowsReuse) {
   StaticVector<int, 3> v;
   v.push_back(7);
