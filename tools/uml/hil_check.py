@@ -31,7 +31,14 @@ def candump(path):
 
 
 def summary(name):
-    return json.load(open(f"{out}/{name}/hil_summary.json"))
+    path = f"{out}/{name}/hil_summary.json"
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        # The simulator did not finish its run (its log is shown after this): say which file.
+        print(f"FAIL  run {name.upper()}: no summary from the simulator: {path}: {e}")
+        sys.exit(1)
 
 
 # Run A.
