@@ -74,7 +74,6 @@ class PowerStateMachine {
   State awaiting_ = State::Unknown;
   std::uint16_t cw_ = kCwDisableVoltage;
   bool at_goal_ = false;
-  bool reset_low_sent_ = false;  // bit 7 was low last period, so the next high is an edge
   std::uint32_t resets_ = 0;
 };
 
