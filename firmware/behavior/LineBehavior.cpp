@@ -9,7 +9,6 @@ LineBehavior::LineBehavior(const BehaviorConfig& cfg, LineController& line,
     : cfg_(cfg),
       line_(line),
       planner_(planner),
-      holonomic_(holonomic),
       path_(PathTrackerConfig{2.0, cfg.search_yaw_rate_radps, 0.04}, holonomic) {}
 
 void LineBehavior::enter(LineState s, Phase phase, double t_s) {

@@ -155,7 +155,6 @@ class LineBehavior {
   BehaviorConfig cfg_;
   LineController& line_;
   const BypassPlanner& planner_;
-  bool holonomic_;
   PathTracker path_;
   LineState state_ = LineState::Start;
   Phase phase_ = Phase::Wait;
