@@ -137,12 +137,14 @@ struct KidnapSpec {
 
 // On a scenario with a map: what the firmware is told about where it starts, and the kidnaps.
 struct LocalisationSpec {
-  std::optional<Pose2> initial_pose;   // the pose the firmware is given; default the true start
-  bool global = false;                 // it is given none: global localisation
-  double initial_sigma_xy_m = 0.3;     // the spread of the particles round it [m]
-  double initial_sigma_yaw_rad = 0.2;  // [rad]
-  bool recovery = false;  // augmented MCL's random injection (needed to recover from a kidnap)
-  double max_unlocalised_s = 60.0;  // held unlocalised this long: fault not_localised; 0 never [s]
+  static constexpr loader::LocalisationStartSpec kStart{};
+  std::optional<Pose2> initial_pose;  // the pose the firmware is given; default the true start
+  bool global = false;                // it is given none: global localisation
+  // The defaults are a robot mission file's (loader::LocalisationStartSpec).
+  double initial_sigma_xy_m = kStart.initial_sigma_xy_m;        // the spread round it [m]
+  double initial_sigma_yaw_rad = kStart.initial_sigma_yaw_rad;  // [rad]
+  bool recovery = kStart.recovery;  // augmented MCL's random injection (to recover from a kidnap)
+  double max_unlocalised_s = kStart.max_unlocalised_s;  // unlocalised this long: not_localised [s]
   std::vector<KidnapSpec> kidnaps;
 };
 

@@ -38,6 +38,15 @@ skip() {
   exit 77
 }
 
+# AddressSanitizer's shadow memory does not fit a user-mode-linux process's address space (the
+# guest aborts: "Shadow memory range interleaves with an existing memory mapping"): a command that
+# would run a sanitized binary (the host-debug build) inside cannot run at all.
+for arg in "$@"; do
+  if [ -f "$arg" ] && [ -x "$arg" ] && readelf -d "$arg" 2>/dev/null | grep -q 'NEEDED.*libasan'; then
+    skip "$arg is built with AddressSanitizer, which cannot run inside user-mode-linux"
+  fi
+done
+
 linux=${UML_LINUX:-/usr/bin/linux}
 [ -x "$linux" ] || skip "no user-mode-linux kernel at $linux (apt-get install user-mode-linux)"
 ver=$(timeout 10 "$linux" --version 2>/dev/null | head -n 1)
