@@ -19,9 +19,7 @@ class StaticVector {
 
   constexpr bool push_back(const T& v) {
     assert(size_ < N && "StaticVector full");
-    if (size_ >= N) return false;
-    data_[size_++] = v;
-    return true;
+    return try_push_back(v);
   }
   // Appends v; false, and nothing appended, when full.
   constexpr bool try_push_back(const T& v) {
