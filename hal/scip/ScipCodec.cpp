@@ -274,12 +274,14 @@ bool ReplyWriter::timestamp(std::uint32_t ms) {
 }
 
 bool ReplyWriter::data(const std::uint32_t* values, int count, int chars) {
+  // The encoding's widths only: any other would read past enc (clang-analyzer found it).
+  if (chars < 1 || chars > 4) return ok_ = false;
   char line[kMaxDataLine + 2];
   int fill = 0;
   for (int i = 0; i < count; ++i) {
     char enc[4];
     const std::uint32_t v = values[i] > max_encodable(chars) ? max_encodable(chars) : values[i];
-    encode(v, chars, enc);
+    if (!encode(v, chars, enc)) return ok_ = false;
     for (int c = 0; c < chars; ++c) {
       line[fill++] = enc[c];
       if (fill == kMaxDataLine) {

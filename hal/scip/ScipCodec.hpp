@@ -94,7 +94,8 @@ class ReplyWriter {
   bool status(const char code[2]);                 // "SS" + sum + LF
   bool info(const char* key, const char* value);   // "KEY:value;" + sum of "KEY:value" + LF
   bool timestamp(std::uint32_t ms);                // 4-character time stamp + sum + LF
-  // Values of `chars` characters each, split into lines of 64 with their sums.
+  // Values of `chars` characters each (1 to 4; any other fails the writer), split into lines of
+  // 64 with their sums.
   bool data(const std::uint32_t* values, int count, int chars);
   bool end();  // the empty line that ends a message
   std::size_t size() const { return ok_ ? len_ : 0; }

@@ -282,4 +282,19 @@ TEST(ScipCodec, RangesMapPerRep117) {
 }
 
 }  // namespace
+TEST(ScipCodec, DataOfAWidthTheEncodingHasNotFailsTheWriter) {
+  const std::uint32_t values[3] = {1, 2, 3};
+  for (const int chars : {0, 5, -1}) {
+    char buf[256];
+    ReplyWriter w(buf, sizeof buf);
+    EXPECT_FALSE(w.data(values, 3, chars)) << chars;
+    EXPECT_FALSE(w.ok()) << chars;
+    EXPECT_EQ(w.size(), 0U) << chars;
+  }
+  char buf[256];
+  ReplyWriter w(buf, sizeof buf);
+  EXPECT_TRUE(w.data(values, 3, 3));
+  EXPECT_EQ(w.size(), 11U);  // nine characters, their sum, LF
+}
+
 }  // namespace carril::hal::scip
