@@ -16,6 +16,11 @@ class StaticVector {
   constexpr bool empty() const { return size_ == 0; }
   constexpr bool full() const { return size_ == N; }
   constexpr void clear() { size_ = 0; }
+  // Keeps the first n elements (n no more than size()).
+  constexpr void truncate(std::size_t n) {
+    assert(n <= size_);
+    if (n < size_) size_ = n;
+  }
 
   constexpr bool push_back(const T& v) {
     assert(size_ < N && "StaticVector full");

@@ -62,7 +62,10 @@ MotionRequest MissionRunner::held() const {
   // sides); clearance_m measures from the rectangle.
   const double sweep =
       std::hypot(fp.half_length_m, fp.half_width_m) - std::min(fp.half_length_m, fp.half_width_m);
-  if (!f.valid() || f.clearance_m(odom_.get().pose) < sweep + lost_turn_clearance_m_) return m;
+  // All round: a corner sweeps the scanner's blind sector too (what it saw there is remembered).
+  if (!f.valid() || f.clearance_all_round_m(odom_.get().pose) < sweep + lost_turn_clearance_m_) {
+    return m;
+  }
   m.twist.wz = lost_turn_radps_;
   return m;
 }

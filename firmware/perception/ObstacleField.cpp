@@ -5,6 +5,7 @@
 namespace carril::fw {
 
 void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
+  remember(scan, odom);
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
   const int n = beams_.update(scan);
@@ -51,6 +52,73 @@ double ObstacleField::clearance_m(const Pose2& odom) const {
     if (d < best) best = d;
   }
   return best;
+}
+
+double ObstacleField::clearance_all_round_m(const Pose2& odom) const {
+  if (memory_full_) return 0.0;
+  double best = clearance_m(odom);
+  const PoseFrame frame(odom);
+  for (const Vec2& w : memory_) {
+    const Vec2 p = frame.to_robot(w);
+    const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
+    const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
+    best = std::fmin(best, std::sqrt(dx * dx + dy * dy));
+  }
+  return best;
+}
+
+bool ObstacleField::seen_past(const hal::LaserScan& scan, const Pose2& lidar, const Vec2& w) const {
+  const double inc = double(scan.angle_increment_rad);
+  if (scan.count == 0 || !std::isfinite(inc) || inc == 0.0 || !std::isfinite(scan.angle_min_rad)) {
+    return false;
+  }
+  const Vec2 p = PoseFrame(lidar).to_robot(w);
+  const double r = p.norm();
+  // The beam nearest the point's bearing, counted from the first beam the way the scan turns.
+  double a = wrap_angle(std::atan2(p.y(), p.x()) - double(scan.angle_min_rad));
+  if (inc > 0.0 && a < -0.5 * inc) a += 2.0 * kPi;
+  if (inc < 0.0 && a > -0.5 * inc) a -= 2.0 * kPi;
+  const double k = std::round(a / inc);
+  if (!(k >= 0.0 && k < double(scan.count))) return false;  // outside the field of view
+  const float range = scan.ranges_m[std::size_t(k)];
+  if (std::isnan(range)) return false;                                          // says nothing
+  if (std::isinf(range)) return range > 0.0F && r <= double(scan.range_max_m);  // free to max
+  // A return at the point or beyond it: the beam passed it (a nearer one hides it, so it stays).
+  return double(range) >= r - 0.05;
+}
+
+void ObstacleField::remember(const hal::LaserScan& scan, const Pose2& odom) {
+  const double reach = std::hypot(fp_.half_length_m, fp_.half_width_m) + kMemoryReachM;
+  const PoseFrame body(odom);
+  const Vec2 mount = body.to_world(Vec2(mx_, my_));
+  const Pose2 lidar{mount.x(), mount.y(), wrap_angle(odom.yaw + myaw_)};
+  const auto keep = [&](const Vec2& w) {
+    const Vec2 p = body.to_robot(w);
+    if (p.norm() > reach) return false;
+    if (std::fabs(p.x()) < fp_.half_length_m && std::fabs(p.y()) < fp_.half_width_m) {
+      return false;  // the body stands there now: whatever it was has gone
+    }
+    return !seen_past(scan, lidar, w);
+  };
+  std::size_t n = 0;
+  for (const Vec2& w : memory_) {
+    if (keep(w)) memory_[n++] = w;
+  }
+  memory_.truncate(n);
+  // The last scan's points join (they are about to be replaced), thinned along the scan.
+  bool have_last = false;
+  Vec2 last(0.0, 0.0);
+  for (const Vec2& w : pts_) {
+    if (have_last && (w - last).norm() < kMemorySpacingM) continue;
+    if (!keep(w)) continue;
+    if (!memory_.try_push_back(w)) {
+      memory_full_ = true;  // what it cannot hold it cannot vouch for: no turn is cleared
+      return;
+    }
+    have_last = true;
+    last = w;
+  }
+  memory_full_ = false;
 }
 
 }  // namespace carril::fw

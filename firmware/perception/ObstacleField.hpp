@@ -34,6 +34,19 @@ class ObstacleField {
   double ahead_m(const Pose2& odom, double margin_m, double max_m) const;
   // Smallest distance from any point to the footprint rectangle at `odom` [m].
   double clearance_m(const Pose2& odom) const;
+  // The same over this scan's points and the remembered ones (below): what a turn in place can
+  // meet all round, blind sectors included; 0 when the memory overflowed [m].
+  double clearance_all_round_m(const Pose2& odom) const;
+
+  // Returns of earlier scans still near the robot (within kMemoryReachM of the footprint's
+  // circumscribed circle) that no later beam has looked past: what lies in the scanner's blind
+  // sector (behind a 180 deg lidar, say) after it was last seen. Odometry frame, so a localisation
+  // jump does not move them; thinned to one point every kMemorySpacingM along each scan.
+  static constexpr std::size_t kMaxRemembered = 1024;
+  static constexpr double kMemoryReachM = 1.5;     // [m]
+  static constexpr double kMemorySpacingM = 0.02;  // [m]
+  const StaticVector<Vec2, kMaxRemembered>& remembered() const { return memory_; }
+  bool memory_overflowed() const { return memory_full_; }
   const Footprint& footprint() const { return fp_; }
 
  private:
@@ -41,7 +54,15 @@ class ObstacleField {
   double mx_, my_, myaw_;
   bool valid_ = false;
   std::uint64_t invalid_beams_ = 0;
+  // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
+  // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
+  void remember(const hal::LaserScan& scan, const Pose2& odom);
+  // Whether a beam of `scan` (taken from lidar pose `lidar`) looked at or past odometry point w.
+  bool seen_past(const hal::LaserScan& scan, const Pose2& lidar, const Vec2& w) const;
+
   StaticVector<Vec2, hal::kMaxScanBeams> pts_;
+  StaticVector<Vec2, kMaxRemembered> memory_;
+  bool memory_full_ = false;
   BeamDirections beams_;  // no trigonometry per beam per scan
 };
 

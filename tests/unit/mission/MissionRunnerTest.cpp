@@ -290,5 +290,48 @@ TEST(MissionRunnerTest, HeldUnlocalisedTooLongEndsInNotLocalised) {
   }
 }
 
+// A 180 deg lidar is blind behind: what it saw ahead before the robot turned away is still there
+// for the corners a turn in place swings.
+TEST(MissionRunnerTest, LostItDoesNotTurnOntoWhatItSawBeforeItsBlindSector) {
+  Rig r;
+  r.cfg.lost_turn_radps = 0.3;
+  MissionRunner runner{r.cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
+  Topic<OdometryMsg> pose;
+  runner.watch_pose(pose);
+  auto tick = [&](double t_s) {
+    SensorFrame& f = r.frame.edit();
+    f.now_ns = hal::TimeNs(t_s * 1e9);
+    f.wheels.count = 2;
+    for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
+    r.frame.publish(f.now_ns);
+    runner.run();
+  };
+  pose.edit().localised = false;
+  pose.publish(0);
+  // 0.38 m ahead: 0.13 m from the footprint, within the 0.10 m its corners sweep plus 0.05.
+  r.obstacle_at(0.38);
+  tick(0.0);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  // Facing the other way (odometry turned half round), the scan shows nothing: the return is
+  // behind, where no beam looks. It is remembered, so still no turn.
+  r.odom.edit().pose = Pose2{0.0, 0.0, kPi};
+  r.odom.publish(0);
+  r.obstacles.edit().update(scan_with_point_ahead(std::numeric_limits<double>::infinity()),
+                            Pose2{0.0, 0.0, kPi});
+  r.obstacles.publish(0);
+  tick(0.01);
+  EXPECT_EQ(r.obstacles.get().clearance_m(Pose2{0.0, 0.0, kPi}), 1e9);
+  EXPECT_EQ(r.motion.get().twist.wz, 0.0);
+  EXPECT_EQ(runner.telemetry().lost_turn_ticks, 0U);
+  // Moved 0.5 m on, away from it (0.63 m from the footprint now): room to turn.
+  r.odom.edit().pose = Pose2{-0.5, 0.0, kPi};
+  r.odom.publish(0);
+  r.obstacles.edit().update(scan_with_point_ahead(std::numeric_limits<double>::infinity()),
+                            Pose2{-0.5, 0.0, kPi});
+  r.obstacles.publish(0);
+  tick(0.02);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.wz, 0.3);
+}
+
 }  // namespace
 }  // namespace carril::fw

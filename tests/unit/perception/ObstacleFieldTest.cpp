@@ -114,5 +114,68 @@ TEST(ObstacleFieldTest, AScanOfAnotherGeometryIsNotSeenThroughTheLastOnesDirecti
   expect_points("more beams again");
 }
 
+// The scanner sees 80 deg ahead; a return at +40 deg, 0.45 m out, is then turned away from.
+TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.45F}), Pose2{});
+  const Vec2 seen = f.points()[0];
+  // Turned 90 deg right: the return is behind the left side, where no beam looks.
+  const Pose2 turned{0.0, 0.0, -kPi / 2};
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), turned);
+  EXPECT_EQ(f.points().size(), 0U);
+  ASSERT_EQ(f.remembered().size(), 1U);
+  EXPECT_NEAR((f.remembered()[0] - seen).norm(), 0.0, 1e-12);
+  EXPECT_EQ(f.clearance_m(turned), 1e9);  // the scan alone: nothing near
+  // From the 0.5 x 0.5 m body: 0.345 - 0.25 one way, 0.289 - 0.25 the other.
+  const double dx = 0.45 * std::sin(40 * kPi / 180) - 0.25;
+  const double dy = 0.45 * std::cos(40 * kPi / 180) - 0.25;
+  EXPECT_NEAR(f.clearance_all_round_m(turned), std::hypot(dx, dy), 1e-6);
+  // Turned back: a beam that ends nearer hides it (kept), a NaN says nothing (kept), a beam that
+  // reaches it or looks past it (a return beyond, or +inf: nothing within range) clears it.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.35F}), Pose2{});
+  EXPECT_EQ(f.remembered().size(), 1U);
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kNaN}), Pose2{});
+  EXPECT_EQ(f.remembered().size(), 2U);  // and the 0.35 m return, which no beam looked past
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{});
+  EXPECT_EQ(f.remembered().size(), 0U);
+  EXPECT_EQ(f.clearance_all_round_m(Pose2{}), 1e9);
+}
+
+TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAway) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  f.update(*scan_of({kInf, kInf, kInf, kInf, 0.8F, kInf, kInf, kInf, kInf}), Pose2{});
+  // Backed away facing the other way: the return, 0.8 m ahead of the start, is behind.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{0.0, 0, kPi});
+  EXPECT_EQ(f.remembered().size(), 1U);
+  // The body now over it (driven there backwards): whatever it was is gone.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{0.7, 0, kPi});
+  EXPECT_EQ(f.remembered().size(), 0U);
+  // Far away: beyond the reach round the body it is not kept either.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, 0.8F, kInf, kInf, kInf, kInf}), Pose2{});
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{-3.0, 0, kPi});
+  EXPECT_EQ(f.remembered().size(), 0U);
+}
+
+// More returns than it can hold: it cannot vouch for a turn, so none is cleared.
+TEST(ObstacleFieldTest, AMemoryThatOverflowsClearsNoTurn) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  auto s = std::make_unique<hal::LaserScan>();
+  s->seq = 1;
+  s->angle_min_rad = float(-kPi / 2);
+  s->count = 1200;
+  s->angle_increment_rad = float(kPi / 1199);
+  s->range_min_m = 0.05F;
+  s->range_max_m = 10.0F;
+  // Alternating 0.6 m and 1.4 m: no two neighbours within the thinning's spacing.
+  for (std::size_t i = 0; i < s->count; ++i) s->ranges_m[i] = i % 2 == 0 ? 0.6F : 1.4F;
+  f.update(*s, Pose2{});
+  for (std::size_t i = 0; i < s->count; ++i) s->ranges_m[i] = kInf;
+  const Pose2 back{0.0, 0.0, kPi};
+  f.update(*s, back);
+  EXPECT_TRUE(f.memory_overflowed());
+  EXPECT_EQ(f.clearance_all_round_m(back), 0.0);
+  EXPECT_EQ(f.clearance_m(back), 1e9);
+}
+
 }  // namespace
 }  // namespace carril::fw
