@@ -24,8 +24,11 @@
 namespace carril::fw {
 
 struct LineBus {
-  LineBus(const Footprint& fp, double lidar_x, double lidar_y, double lidar_yaw)
-      : obstacles(fp, lidar_x, lidar_y, lidar_yaw) {}
+  // `remember_obstacles`: the obstacle field keeps what leaves the lidar's view (for the turn in
+  // place of a lost robot).
+  LineBus(const Footprint& fp, double lidar_x, double lidar_y, double lidar_yaw,
+          bool remember_obstacles)
+      : obstacles(fp, lidar_x, lidar_y, lidar_yaw, remember_obstacles) {}
 
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> odometry;

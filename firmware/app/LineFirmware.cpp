@@ -7,7 +7,8 @@ namespace carril::fw {
 
 LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
     : kinematics(cfg.drive),
-      bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad),
+      bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad,
+          cfg.runner.lost_turn_radps > 0.0),
       controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
       watch(cfg.watch, cfg.lidar.present, bus.frame, bus.odometry, controller),
       odometry(kinematics, bus.frame, bus.odometry, cfg.gyro_heading && cfg.watch.imu_present),

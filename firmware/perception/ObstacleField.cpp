@@ -5,7 +5,7 @@
 namespace carril::fw {
 
 void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
-  remember(scan, odom);
+  if (remember_) remember(scan, odom);
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
   const int n = beams_.update(scan);
@@ -92,9 +92,10 @@ void ObstacleField::remember(const hal::LaserScan& scan, const Pose2& odom) {
   const PoseFrame body(odom);
   const Vec2 mount = body.to_world(Vec2(mx_, my_));
   const Pose2 lidar{mount.x(), mount.y(), wrap_angle(odom.yaw + myaw_)};
+  const double reach2 = reach * reach;
   const auto keep = [&](const Vec2& w) {
     const Vec2 p = body.to_robot(w);
-    if (p.norm() > reach) return false;
+    if (p.squaredNorm() > reach2) return false;
     if (std::fabs(p.x()) < fp_.half_length_m && std::fabs(p.y()) < fp_.half_width_m) {
       return false;  // the body stands there now: whatever it was has gone
     }

@@ -18,8 +18,11 @@ struct Footprint {
 
 class ObstacleField {
  public:
-  ObstacleField(const Footprint& fp, double mount_x, double mount_y, double mount_yaw)
-      : fp_(fp), mx_(mount_x), my_(mount_y), myaw_(mount_yaw) {}
+  // `remember`: keep the returns that leave the scanner's view (remembered(), below); only a
+  // user of clearance_all_round_m needs them, and they cost a bearing per nearby return per scan.
+  ObstacleField(const Footprint& fp, double mount_x, double mount_y, double mount_yaw,
+                bool remember = false)
+      : fp_(fp), mx_(mount_x), my_(mount_y), myaw_(mount_yaw), remember_(remember) {}
 
   // Converts a scan taken at odometry pose `odom`. NaN, +inf, zero and out-of-limit ranges are
   // skipped (and counted): no return is not an obstacle. -inf (too close to measure) is an
@@ -52,6 +55,7 @@ class ObstacleField {
  private:
   Footprint fp_;
   double mx_, my_, myaw_;
+  bool remember_;
   bool valid_ = false;
   std::uint64_t invalid_beams_ = 0;
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near

@@ -49,7 +49,7 @@ hal::LaserScan scan_with_point_ahead(double range) {
 struct Rig {
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> odom;
-  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0};
+  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0, true};
   Topic<MotionRequest> motion;
   RecordingSink sink;
   test::ScriptedMission mission;

@@ -116,7 +116,7 @@ TEST(ObstacleFieldTest, AScanOfAnotherGeometryIsNotSeenThroughTheLastOnesDirecti
 
 // The scanner sees 80 deg ahead; a return at +40 deg, 0.45 m out, is then turned away from.
 TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
-  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.45F}), Pose2{});
   const Vec2 seen = f.points()[0];
   // Turned 90 deg right: the return is behind the left side, where no beam looks.
@@ -141,8 +141,18 @@ TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
   EXPECT_EQ(f.clearance_all_round_m(Pose2{}), 1e9);
 }
 
-TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAway) {
+// Not asked to remember (no lost turn configured): the scan alone, at no cost per scan.
+TEST(ObstacleFieldTest, NotAskedToRememberItKeepsNothing) {
   ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.45F}), Pose2{});
+  const Pose2 turned{0.0, 0.0, -kPi / 2};
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), turned);
+  EXPECT_EQ(f.remembered().size(), 0U);
+  EXPECT_EQ(f.clearance_all_round_m(turned), 1e9);
+}
+
+TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAway) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
   f.update(*scan_of({kInf, kInf, kInf, kInf, 0.8F, kInf, kInf, kInf, kInf}), Pose2{});
   // Backed away facing the other way: the return, 0.8 m ahead of the start, is behind.
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{0.0, 0, kPi});
@@ -158,7 +168,7 @@ TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAw
 
 // More returns than it can hold: it cannot vouch for a turn, so none is cleared.
 TEST(ObstacleFieldTest, AMemoryThatOverflowsClearsNoTurn) {
-  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
   auto s = std::make_unique<hal::LaserScan>();
   s->seq = 1;
   s->angle_min_rad = float(-kPi / 2);
