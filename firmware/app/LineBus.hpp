@@ -24,11 +24,11 @@
 namespace carril::fw {
 
 struct LineBus {
-  // `remember_obstacles`: the obstacle field keeps what leaves the lidar's view (for the turn in
-  // place of a lost robot).
+  // `remember_obstacles_m`: how far beyond the body's circumscribed circle the obstacle field
+  // keeps what leaves the lidar's view (for the turn in place of a lost robot; 0: not at all) [m].
   LineBus(const Footprint& fp, double lidar_x, double lidar_y, double lidar_yaw,
-          bool remember_obstacles)
-      : obstacles(fp, lidar_x, lidar_y, lidar_yaw, remember_obstacles) {}
+          double remember_obstacles_m)
+      : obstacles(fp, lidar_x, lidar_y, lidar_yaw, remember_obstacles_m) {}
 
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> odometry;

@@ -8,7 +8,7 @@ namespace carril::fw {
 LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
     : kinematics(cfg.drive),
       bus(cfg.footprint(), cfg.lidar.x_m, cfg.lidar.y_m, cfg.lidar.yaw_rad,
-          cfg.runner.lost_turn_radps > 0.0),
+          cfg.runner.lost_turn_reach_m(cfg.footprint())),
       controller(clock, cfg.rate_hz, bus.frame, bus.command, runner),
       watch(cfg.watch, cfg.lidar.present, bus.frame, bus.odometry, controller),
       odometry(kinematics, bus.frame, bus.odometry, cfg.gyro_heading && cfg.watch.imu_present),

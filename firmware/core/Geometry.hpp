@@ -29,6 +29,21 @@ inline double wrap_angle(double a) {
   return a;
 }
 
+// atan2 within 2e-5 rad (Abramowitz and Stegun 4.4.49 on [0, 1], octants folded onto it), for
+// bearings looked up many times a scan, where libm's cost matters and a beam is 1e-3 rad or more
+// wide. atan2(0, 0) is 0. [rad]
+inline double fast_atan2(double y, double x) {
+  const double ax = std::fabs(x), ay = std::fabs(y);
+  const double hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+  if (hi == 0.0) return 0.0;
+  const double a = lo / hi, s = a * a;
+  double r =
+      a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));
+  if (ay > ax) r = 0.5 * kPi - r;
+  if (x < 0.0) r = kPi - r;
+  return y < 0.0 ? -r : r;
+}
+
 inline double clampd(double v, double lo, double hi) {
   return v < lo ? lo : (v > hi ? hi : v);
 }

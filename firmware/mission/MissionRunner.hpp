@@ -29,8 +29,8 @@ struct MissionRunnerConfig {
   // stands still at 0 [rad/s]. It turns only with room to turn (see lost_turn_clearance_m).
   double lost_turn_radps = 0.0;
   // Turning in place sweeps the footprint's circumscribed circle: it turns only while every
-  // lidar point is at least this far beyond that circle (the lidar sees only its field of view;
-  // behind the robot it trusts the room it came through) [m].
+  // lidar point, seen now or remembered from before it left the lidar's view, is at least this
+  // far beyond that circle (where the lidar has never looked, it trusts the room) [m].
   double lost_turn_clearance_m = 0.05;
   // Held unlocalised this long in a row (never localised since the start, or lost since), the
   // robot gives up with the fault not_localised: a safe stop an operator sees, not a wait with
@@ -38,7 +38,14 @@ struct MissionRunnerConfig {
   double max_unlocalised_s = 0.0;
 
   Status validate() const;
+  // How far beyond the footprint's circumscribed circle a return can still hold the lost turn,
+  // plus 0.1 m for the travel between scans: what the obstacle field has to remember of its
+  // blind sector (0 without a lost turn) [m].
+  double lost_turn_reach_m(const Footprint& fp) const;
 };
+
+// How far the circle a turn in place sweeps reaches beyond the footprint's sides [m].
+double turn_sweep_m(const Footprint& fp);
 
 // The obstacle-ahead question, answered at most once per tick (the missions and the runner's
 // own stop share the answer).

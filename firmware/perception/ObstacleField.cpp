@@ -5,7 +5,7 @@
 namespace carril::fw {
 
 void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
-  if (remember_) remember(scan, odom);
+  if (remember_m_ > 0.0) remember(scan, odom);
   pts_.clear();
   const double c = std::cos(myaw_), s = std::sin(myaw_);
   const int n = beams_.update(scan);
@@ -67,15 +67,16 @@ double ObstacleField::clearance_all_round_m(const Pose2& odom) const {
   return best;
 }
 
-bool ObstacleField::seen_past(const hal::LaserScan& scan, const Pose2& lidar, const Vec2& w) const {
+bool ObstacleField::seen_past(const hal::LaserScan& scan, const PoseFrame& lidar,
+                              const Vec2& w) const {
   const double inc = double(scan.angle_increment_rad);
   if (scan.count == 0 || !std::isfinite(inc) || inc == 0.0 || !std::isfinite(scan.angle_min_rad)) {
     return false;
   }
-  const Vec2 p = PoseFrame(lidar).to_robot(w);
+  const Vec2 p = lidar.to_robot(w);
   const double r = p.norm();
   // The beam nearest the point's bearing, counted from the first beam the way the scan turns.
-  double a = wrap_angle(std::atan2(p.y(), p.x()) - double(scan.angle_min_rad));
+  double a = wrap_angle(fast_atan2(p.y(), p.x()) - double(scan.angle_min_rad));
   if (inc > 0.0 && a < -0.5 * inc) a += 2.0 * kPi;
   if (inc < 0.0 && a > -0.5 * inc) a -= 2.0 * kPi;
   const double k = std::round(a / inc);
@@ -88,10 +89,10 @@ bool ObstacleField::seen_past(const hal::LaserScan& scan, const Pose2& lidar, co
 }
 
 void ObstacleField::remember(const hal::LaserScan& scan, const Pose2& odom) {
-  const double reach = std::hypot(fp_.half_length_m, fp_.half_width_m) + kMemoryReachM;
+  const double reach = std::hypot(fp_.half_length_m, fp_.half_width_m) + remember_m_;
   const PoseFrame body(odom);
   const Vec2 mount = body.to_world(Vec2(mx_, my_));
-  const Pose2 lidar{mount.x(), mount.y(), wrap_angle(odom.yaw + myaw_)};
+  const PoseFrame lidar(Pose2{mount.x(), mount.y(), wrap_angle(odom.yaw + myaw_)});
   const double reach2 = reach * reach;
   const auto keep = [&](const Vec2& w) {
     const Vec2 p = body.to_robot(w);

@@ -18,11 +18,12 @@ struct Footprint {
 
 class ObstacleField {
  public:
-  // `remember`: keep the returns that leave the scanner's view (remembered(), below); only a
+  // `remember_m`: keep the returns that leave the scanner's view (remembered(), below) while they
+  // are within this distance of the footprint's circumscribed circle (0: keep none) [m]. Only a
   // user of clearance_all_round_m needs them, and they cost a bearing per nearby return per scan.
   ObstacleField(const Footprint& fp, double mount_x, double mount_y, double mount_yaw,
-                bool remember = false)
-      : fp_(fp), mx_(mount_x), my_(mount_y), myaw_(mount_yaw), remember_(remember) {}
+                double remember_m = 0.0)
+      : fp_(fp), mx_(mount_x), my_(mount_y), myaw_(mount_yaw), remember_m_(remember_m) {}
 
   // Converts a scan taken at odometry pose `odom`. NaN, +inf, zero and out-of-limit ranges are
   // skipped (and counted): no return is not an obstacle. -inf (too close to measure) is an
@@ -41,12 +42,11 @@ class ObstacleField {
   // meet all round, blind sectors included; 0 when the memory overflowed [m].
   double clearance_all_round_m(const Pose2& odom) const;
 
-  // Returns of earlier scans still near the robot (within kMemoryReachM of the footprint's
+  // Returns of earlier scans still near the robot (within remember_m of the footprint's
   // circumscribed circle) that no later beam has looked past: what lies in the scanner's blind
   // sector (behind a 180 deg lidar, say) after it was last seen. Odometry frame, so a localisation
   // jump does not move them; thinned to one point every kMemorySpacingM along each scan.
   static constexpr std::size_t kMaxRemembered = 1024;
-  static constexpr double kMemoryReachM = 1.5;     // [m]
   static constexpr double kMemorySpacingM = 0.02;  // [m]
   const StaticVector<Vec2, kMaxRemembered>& remembered() const { return memory_; }
   bool memory_overflowed() const { return memory_full_; }
@@ -55,14 +55,14 @@ class ObstacleField {
  private:
   Footprint fp_;
   double mx_, my_, myaw_;
-  bool remember_;
+  double remember_m_;
   bool valid_ = false;
   std::uint64_t invalid_beams_ = 0;
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
   // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
   void remember(const hal::LaserScan& scan, const Pose2& odom);
   // Whether a beam of `scan` (taken from lidar pose `lidar`) looked at or past odometry point w.
-  bool seen_past(const hal::LaserScan& scan, const Pose2& lidar, const Vec2& w) const;
+  bool seen_past(const hal::LaserScan& scan, const PoseFrame& lidar, const Vec2& w) const;
 
   StaticVector<Vec2, hal::kMaxScanBeams> pts_;
   StaticVector<Vec2, kMaxRemembered> memory_;

@@ -39,4 +39,23 @@ TEST(GeometryTest, PoseFrameTurnsAQuarterTurnTheRightWay) {
 }
 
 }  // namespace
+TEST(GeometryTest, FastAtan2IsWithinItsBoundOfLibmAllRound) {
+  double worst = 0.0;
+  for (int i = 0; i < 3600; ++i) {
+    const double a = -kPi + (i + 0.5) * (2.0 * kPi / 3600.0);
+    for (const double r : {1e-3, 0.7, 25.0}) {
+      const double x = r * std::cos(a), y = r * std::sin(a);
+      worst = std::fmax(worst, std::fabs(fast_atan2(y, x) - std::atan2(y, x)));
+    }
+  }
+  EXPECT_LT(worst, 2e-5);
+  EXPECT_GT(worst, 0.0);  // an approximation: equal to libm would mean the test compares nothing
+  // The axes and the origin exactly.
+  EXPECT_EQ(fast_atan2(0.0, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(fast_atan2(1.0, 0.0), 0.5 * kPi);
+  EXPECT_DOUBLE_EQ(fast_atan2(-1.0, 0.0), -0.5 * kPi);
+  EXPECT_DOUBLE_EQ(fast_atan2(0.0, -1.0), kPi);
+  EXPECT_EQ(fast_atan2(0.0, 0.0), 0.0);
+}
+
 }  // namespace carril::fw

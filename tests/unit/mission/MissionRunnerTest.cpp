@@ -49,7 +49,7 @@ hal::LaserScan scan_with_point_ahead(double range) {
 struct Rig {
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> odom;
-  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0, true};
+  Topic<ObstacleField> obstacles{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0, 0.3};
   Topic<MotionRequest> motion;
   RecordingSink sink;
   test::ScriptedMission mission;
@@ -295,6 +295,11 @@ TEST(MissionRunnerTest, HeldUnlocalisedTooLongEndsInNotLocalised) {
 TEST(MissionRunnerTest, LostItDoesNotTurnOntoWhatItSawBeforeItsBlindSector) {
   Rig r;
   r.cfg.lost_turn_radps = 0.3;
+  // What the field must remember: the corners' 0.104 m beyond the sides, the 0.05 m clearance
+  // and 0.1 m of travel (the rig's field keeps 0.3 m); nothing without a lost turn.
+  EXPECT_NEAR(r.cfg.lost_turn_reach_m(Footprint{0.25, 0.25}), std::sqrt(0.125) - 0.25 + 0.15,
+              1e-12);
+  EXPECT_EQ(MissionRunnerConfig{}.lost_turn_reach_m(Footprint{0.25, 0.25}), 0.0);
   MissionRunner runner{r.cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
   Topic<OdometryMsg> pose;
   runner.watch_pose(pose);

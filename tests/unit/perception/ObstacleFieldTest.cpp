@@ -116,7 +116,7 @@ TEST(ObstacleFieldTest, AScanOfAnotherGeometryIsNotSeenThroughTheLastOnesDirecti
 
 // The scanner sees 80 deg ahead; a return at +40 deg, 0.45 m out, is then turned away from.
 TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
-  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, 1.5);
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.45F}), Pose2{});
   const Vec2 seen = f.points()[0];
   // Turned 90 deg right: the return is behind the left side, where no beam looks.
@@ -152,7 +152,7 @@ TEST(ObstacleFieldTest, NotAskedToRememberItKeepsNothing) {
 }
 
 TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAway) {
-  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, 1.5);
   f.update(*scan_of({kInf, kInf, kInf, kInf, 0.8F, kInf, kInf, kInf, kInf}), Pose2{});
   // Backed away facing the other way: the return, 0.8 m ahead of the start, is behind.
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{0.0, 0, kPi});
@@ -168,7 +168,7 @@ TEST(ObstacleFieldTest, ARememberedReturnIsForgottenWhereTheBodyNowStandsOrFarAw
 
 // More returns than it can hold: it cannot vouch for a turn, so none is cleared.
 TEST(ObstacleFieldTest, AMemoryThatOverflowsClearsNoTurn) {
-  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, true);
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, 1.5);
   auto s = std::make_unique<hal::LaserScan>();
   s->seq = 1;
   s->angle_min_rad = float(-kPi / 2);
