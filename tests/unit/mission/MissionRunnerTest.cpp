@@ -68,6 +68,15 @@ struct Rig {
     odom.publish(odom.get(), f.now_ns);
     runner.run();
   }
+  // One tick at time t [s], drives enabled, of a test's own runner (configured otherwise).
+  void run(MissionRunner& own, double t_s) {
+    SensorFrame& f = frame.edit();
+    f.now_ns = hal::TimeNs(t_s * 1e9);
+    f.wheels.count = 2;
+    for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
+    frame.publish(f.now_ns);
+    own.run();
+  }
   void obstacle_at(double range) {
     obstacles.edit().update(scan_with_point_ahead(range), Pose2{});
     obstacles.publish(0);
@@ -203,14 +212,7 @@ TEST(MissionRunnerTest, LostItTurnsInPlaceOnlyWithRoomToTurnAndPassesAJumpOnOnce
   MissionRunner runner{cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
   Topic<OdometryMsg> pose;
   runner.watch_pose(pose);
-  auto tick = [&](double t_s) {
-    SensorFrame& f = r.frame.edit();
-    f.now_ns = hal::TimeNs(t_s * 1e9);
-    f.wheels.count = 2;
-    for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
-    r.frame.publish(f.now_ns);
-    runner.run();
-  };
+  auto tick = [&](double t_s) { r.run(runner, t_s); };
   r.mission.next.motion.twist = {0.3, 0.0, 0.0};
   pose.edit().localised = true;
   pose.publish(0);
@@ -303,14 +305,7 @@ TEST(MissionRunnerTest, LostItDoesNotTurnOntoWhatItSawBeforeItsBlindSector) {
   MissionRunner runner{r.cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
   Topic<OdometryMsg> pose;
   runner.watch_pose(pose);
-  auto tick = [&](double t_s) {
-    SensorFrame& f = r.frame.edit();
-    f.now_ns = hal::TimeNs(t_s * 1e9);
-    f.wheels.count = 2;
-    for (int i = 0; i < 2; ++i) f.wheels.wheel[i].state = hal::DriveState::Enabled;
-    r.frame.publish(f.now_ns);
-    runner.run();
-  };
+  auto tick = [&](double t_s) { r.run(runner, t_s); };
   pose.edit().localised = false;
   pose.publish(0);
   // 0.38 m ahead: 0.13 m from the footprint, within the 0.10 m its corners sweep plus 0.05.
