@@ -136,6 +136,10 @@ TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
   EXPECT_EQ(f.remembered().size(), 1U);
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kNaN}), Pose2{});
   EXPECT_EQ(f.remembered().size(), 2U);  // and the 0.35 m return, which no beam looked past
+  // A return 2 m out along that beam: it looked past both.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 2.0F}), Pose2{});
+  EXPECT_EQ(f.remembered().size(), 0U);
+  // Nothing within range along it: it looked past the 2 m return too.
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), Pose2{});
   EXPECT_EQ(f.remembered().size(), 0U);
   EXPECT_EQ(f.clearance_all_round_m(Pose2{}), 1e9);
@@ -144,7 +148,8 @@ TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
 // Not asked to remember (no lost turn configured): the scan alone, at no cost per scan.
 TEST(ObstacleFieldTest, NotAskedToRememberItKeepsNothing) {
   ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
-  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.45F}), Pose2{});
+  // 0.34 m out at +40 deg: outside the body, inside the circle it sweeps.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, 0.34F}), Pose2{});
   const Pose2 turned{0.0, 0.0, -kPi / 2};
   f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), turned);
   EXPECT_EQ(f.remembered().size(), 0U);
