@@ -41,16 +41,16 @@ double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) 
   return best;
 }
 
+double ObstacleField::from_body_m(const Vec2& p) const {
+  const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
+  const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
+  return std::sqrt(dx * dx + dy * dy);
+}
+
 double ObstacleField::clearance_m(const Pose2& odom) const {
   double best = 1e9;
   const PoseFrame frame(odom);
-  for (const Vec2& w : pts_) {
-    const Vec2 p = frame.to_robot(w);
-    const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
-    const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
-    const double d = std::sqrt(dx * dx + dy * dy);
-    if (d < best) best = d;
-  }
+  for (const Vec2& w : pts_) best = std::fmin(best, from_body_m(frame.to_robot(w)));
   return best;
 }
 
@@ -58,12 +58,7 @@ double ObstacleField::clearance_all_round_m(const Pose2& odom) const {
   if (memory_full_) return 0.0;
   double best = clearance_m(odom);
   const PoseFrame frame(odom);
-  for (const Vec2& w : memory_) {
-    const Vec2 p = frame.to_robot(w);
-    const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
-    const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);
-    best = std::fmin(best, std::sqrt(dx * dx + dy * dy));
-  }
+  for (const Vec2& w : memory_) best = std::fmin(best, from_body_m(frame.to_robot(w)));
   return best;
 }
 

@@ -58,6 +58,8 @@ class ObstacleField {
   double remember_m_;
   bool valid_ = false;
   std::uint64_t invalid_beams_ = 0;
+  // From robot-frame point p to the footprint rectangle (0 inside it) [m].
+  double from_body_m(const Vec2& p) const;
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
   // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
   void remember(const hal::LaserScan& scan, const Pose2& odom);
