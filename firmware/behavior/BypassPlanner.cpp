@@ -114,7 +114,7 @@ bool BypassPlanner::lane_clear(const BypassPlan& p, const Pose2& from, std::size
   const double res = costmap.resolution();
   // A lethal cell's centre may be up to one cell from the obstacle point it holds.
   const double margin = cfg_.emergency_m + res;
-  const double turn_radius = std::hypot(fp_.half_length_m, fp_.half_width_m) + cfg_.emergency_m;
+  const double turn_radius = fp_.circumscribed_m() + cfg_.emergency_m;
   const Vec2 start(from.x, from.y);
   const Rect here = grown(start, from.yaw, margin);
   Vec2 a = start;

@@ -94,9 +94,9 @@ GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool
       odom_(odom),
       costmap_(costmap),
       guard_(footprint.half_length_m, footprint.half_width_m, std::max(0.0, cfg.corner_pad_m),
-             std::hypot(footprint.half_length_m, footprint.half_width_m) +
-                 std::max(0.0, cfg.corner_pad_m) + cfg.speed_mps * kCornerReactionS +
-                 cfg.emergency_stop_m + BodyGuard::kEscapeM + 0.1),
+             footprint.circumscribed_m() + std::max(0.0, cfg.corner_pad_m) +
+                 cfg.speed_mps * kCornerReactionS + cfg.emergency_stop_m + BodyGuard::kEscapeM +
+                 0.1),
       goal_(cfg.goal_at(0)) {
   const RollingGrid<std::uint8_t>& m = costmap.master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
@@ -287,7 +287,7 @@ bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
 // cell within the footprint's circumscribed radius of the goal.
 bool GotoMission::goal_in_obstacle(int gx, int gy) const {
   const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
-  const double radius = std::hypot(footprint_.half_length_m, footprint_.half_width_m);
+  const double radius = footprint_.circumscribed_m();
   const int r = static_cast<int>(std::ceil(radius / o.resolution()));
   for (int dy = -r; dy <= r; ++dy) {
     for (int dx = -r; dx <= r; ++dx) {

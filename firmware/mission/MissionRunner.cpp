@@ -21,13 +21,8 @@ Status MissionRunnerConfig::validate() const {
       .result();
 }
 
-double turn_sweep_m(const Footprint& fp) {
-  return std::hypot(fp.half_length_m, fp.half_width_m) -
-         std::min(fp.half_length_m, fp.half_width_m);
-}
-
 double MissionRunnerConfig::lost_turn_reach_m(const Footprint& fp) const {
-  return lost_turn_radps > 0.0 ? turn_sweep_m(fp) + lost_turn_clearance_m + 0.1 : 0.0;
+  return lost_turn_radps > 0.0 ? fp.turn_sweep_m() + lost_turn_clearance_m + 0.1 : 0.0;
 }
 
 bool ObstacleGuard::ahead() const {
@@ -68,7 +63,7 @@ MotionRequest MissionRunner::held() const {
   const ObstacleField& f = obstacles_.get();
   // The circle the turn sweeps lies this far beyond the rectangle at most (at its corners'
   // sides); clearance_m measures from the rectangle.
-  const double sweep = turn_sweep_m(f.footprint());
+  const double sweep = f.footprint().turn_sweep_m();
   // All round: a corner sweeps the scanner's blind sector too (what it saw there is remembered).
   if (!f.valid() || f.clearance_all_round_m(odom_.get().pose) < sweep + lost_turn_clearance_m_) {
     return m;

@@ -44,9 +44,6 @@ struct MissionRunnerConfig {
   double lost_turn_reach_m(const Footprint& fp) const;
 };
 
-// How far the circle a turn in place sweeps reaches beyond the footprint's sides [m].
-double turn_sweep_m(const Footprint& fp);
-
 // The obstacle-ahead question, answered at most once per tick (the missions and the runner's
 // own stop share the answer).
 class ObstacleGuard {

@@ -83,7 +83,7 @@ WaypointMission::WaypointMission(const WaypointConfig& cfg, const Footprint& foo
       costmap_(costmap),
       // Gathered: what the keeping distance and the longest stopping distance can reach.
       guard_(footprint.half_length_m, footprint.half_width_m, cfg.body_pad_m,
-             std::hypot(footprint.half_length_m, footprint.half_width_m) + cfg.body_pad_m +
+             footprint.circumscribed_m() + cfg.body_pad_m +
                  std::fmax(cfg.bypass_clearance_m + kEnterMarginM + kLostM,
                            cfg.speed_mps * cfg.reaction_s +
                                cfg.speed_mps * cfg.speed_mps / (2.0 * cfg.brake_decel_mps2) +
@@ -225,7 +225,7 @@ bool WaypointMission::target_in_obstacle() const {
   const Vec2& t = cfg_.targets[target_];
   int tx = 0, ty = 0;
   if (!o.world_to_cell(t.x(), t.y(), tx, ty)) return false;  // not seen yet
-  const double circumscribed = std::hypot(footprint_.half_length_m, footprint_.half_width_m);
+  const double circumscribed = footprint_.circumscribed_m();
   const double radius = std::fmax(0.0, circumscribed - cfg_.reach_radius_m);
   const int r = static_cast<int>(std::ceil(radius / o.resolution()));
   for (int dy = -r; dy <= r; ++dy) {

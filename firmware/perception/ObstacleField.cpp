@@ -65,9 +65,6 @@ double ObstacleField::clearance_all_round_m(const Pose2& odom) const {
 bool ObstacleField::seen_past(const hal::LaserScan& scan, const PoseFrame& lidar,
                               const Vec2& w) const {
   const double inc = double(scan.angle_increment_rad);
-  if (scan.count == 0 || !std::isfinite(inc) || inc == 0.0 || !std::isfinite(scan.angle_min_rad)) {
-    return false;
-  }
   const Vec2 p = lidar.to_robot(w);
   const double r = p.norm();
   // The beam nearest the point's bearing, counted from the first beam the way the scan turns.
@@ -84,18 +81,22 @@ bool ObstacleField::seen_past(const hal::LaserScan& scan, const PoseFrame& lidar
 }
 
 void ObstacleField::remember(const hal::LaserScan& scan, const Pose2& odom) {
-  const double reach = std::hypot(fp_.half_length_m, fp_.half_width_m) + remember_m_;
+  const double reach = fp_.circumscribed_m() + remember_m_;
   const PoseFrame body(odom);
   const Vec2 mount = body.to_world(Vec2(mx_, my_));
   const PoseFrame lidar(Pose2{mount.x(), mount.y(), wrap_angle(odom.yaw + myaw_)});
   const double reach2 = reach * reach;
+  // A scan whose beams cannot be placed looks past nothing (checked once, not per return).
+  const double inc = double(scan.angle_increment_rad);
+  const bool placed =
+      scan.count > 0 && std::isfinite(inc) && inc != 0.0 && std::isfinite(scan.angle_min_rad);
   const auto keep = [&](const Vec2& w) {
     const Vec2 p = body.to_robot(w);
     if (p.squaredNorm() > reach2) return false;
     if (std::fabs(p.x()) < fp_.half_length_m && std::fabs(p.y()) < fp_.half_width_m) {
       return false;  // the body stands there now: whatever it was has gone
     }
-    return !seen_past(scan, lidar, w);
+    return !(placed && seen_past(scan, lidar, w));
   };
   std::size_t n = 0;
   for (const Vec2& w : memory_) {

@@ -3,6 +3,7 @@
 // behaviours ask of it. Distances are measured from the robot's footprint, not from the sensor,
 // so a lidar mounted off-centre (campero's front-right corner) needs no hand-shaped zones.
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "firmware/core/BeamDirections.hpp"
@@ -14,6 +15,12 @@ namespace carril::fw {
 
 struct Footprint {
   double half_length_m = 0.25, half_width_m = 0.25;
+  // The circumscribed circle's radius: what a turn in place sweeps [m].
+  double circumscribed_m() const { return std::hypot(half_length_m, half_width_m); }
+  // How far that circle reaches beyond the nearer sides [m].
+  double turn_sweep_m() const {
+    return circumscribed_m() - (half_length_m < half_width_m ? half_length_m : half_width_m);
+  }
 };
 
 class ObstacleField {
@@ -63,7 +70,8 @@ class ObstacleField {
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
   // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
   void remember(const hal::LaserScan& scan, const Pose2& odom);
-  // Whether a beam of `scan` (taken from lidar pose `lidar`) looked at or past odometry point w.
+  // Whether a beam of `scan` (taken from lidar pose `lidar`, its beams' geometry finite and its
+  // increment non-zero) looked at or past odometry point w.
   bool seen_past(const hal::LaserScan& scan, const PoseFrame& lidar, const Vec2& w) const;
 
   StaticVector<Vec2, hal::kMaxScanBeams> pts_;
