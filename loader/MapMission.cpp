@@ -34,6 +34,9 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
     // the whole room). Told where it starts, it waits still.
     l.search_while_unlocalised = true;
     c.runner.lost_turn_radps = 0.3;
+    // Still lost after a whole turn (a view that fits several alike places), it drives 2 m legs
+    // toward open space at a walking pace and looks round again.
+    c.runner.lost_explore.speed_mps = 0.2;
   }
 }
 

@@ -18,6 +18,7 @@ Status MissionRunnerConfig::validate() const {
       .range("lost_turn_radps", lost_turn_radps, 0.0, 2.0, "rad/s")
       .range("lost_turn_clearance_m", lost_turn_clearance_m, 0.0, 1.0, "m")
       .range("max_unlocalised_s", max_unlocalised_s, 0.0, 86400.0, "s")
+      .nested(lost_explore.validate())
       .result();
 }
 
@@ -54,21 +55,25 @@ MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, in
       lost_turn_radps_(cfg.lost_turn_radps),
       lost_turn_clearance_m_(cfg.lost_turn_clearance_m),
       max_unlocalised_s_(cfg.max_unlocalised_s),
+      stop_cfg_(cfg.obstacle),
+      explorer_(cfg.lost_explore, cfg.lost_turn_radps),
       imu_present_(imu_present) {}
 
-// The motion while the mission is held: still, or a turn in place when there is room for one.
-MotionRequest MissionRunner::held() const {
+// The motion while the mission is held: still, or the explorer's turn in place when there is
+// room for one and its legs toward open space.
+MotionRequest MissionRunner::held() {
   MotionRequest m;
   if (lost_turn_radps_ <= 0.0) return m;
   const ObstacleField& f = obstacles_.get();
+  if (!f.valid()) return m;
+  const Pose2& pose = odom_.get().pose;
   // The circle the turn sweeps lies this far beyond the rectangle at most (at its corners'
-  // sides); clearance_m measures from the rectangle.
-  const double sweep = f.footprint().turn_sweep_m();
-  // All round: a corner sweeps the scanner's blind sector too (what it saw there is remembered).
-  if (!f.valid() || f.clearance_all_round_m(odom_.get().pose) < sweep + lost_turn_clearance_m_) {
-    return m;
-  }
-  m.twist.wz = lost_turn_radps_;
+  // sides); clearance_m measures from the rectangle. All round: a corner sweeps the scanner's
+  // blind sector too (what it saw there is remembered).
+  const bool can_turn =
+      f.clearance_all_round_m(pose) >= f.footprint().turn_sweep_m() + lost_turn_clearance_m_;
+  const double free_m = f.ahead_m(pose, stop_cfg_.corridor_margin_m, 50.0);
+  m.twist = explorer_.step(pose, can_turn, free_m);
   return m;
 }
 
@@ -92,10 +97,15 @@ void MissionRunner::run() {
       return;
     }
     const MotionRequest m = held();
-    if (m.twist.wz != 0.0) ++tel_.lost_turn_ticks;
+    if (m.twist.vx != 0.0) {
+      ++tel_.lost_drive_ticks;
+    } else if (m.twist.wz != 0.0) {
+      ++tel_.lost_turn_ticks;
+    }
     out_.publish(m, f.now_ns);
     return;
   }
+  if (unlocalised_s_ > 0.0) explorer_.reset();
   unlocalised_s_ = 0.0;
   if (pose_ != nullptr && pose_->get().relocalisations != seen_relocalisations_) {
     seen_relocalisations_ = pose_->get().relocalisations;

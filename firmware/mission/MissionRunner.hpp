@@ -10,6 +10,7 @@
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
+#include "firmware/mission/LostExplorer.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
@@ -36,6 +37,9 @@ struct MissionRunnerConfig {
   // robot gives up with the fault not_localised: a safe stop an operator sees, not a wait with
   // no end. 0: it waits for ever [s].
   double max_unlocalised_s = 0.0;
+  // Still lost after a whole turn, it drives short legs toward open space and looks round again
+  // from there (speed 0: it only turns). Only with a lost turn.
+  LostExploreConfig lost_explore;
 
   Status validate() const;
   // How far beyond the footprint's circumscribed circle a return can still hold the lost turn,
@@ -66,6 +70,7 @@ struct MissionRunnerTelemetry {
   std::uint64_t obstacle_stops = 0;     // guarded motions the runner stopped for an obstacle
   std::uint64_t unlocalised_ticks = 0;  // ticks the mission was held: pose not localised
   std::uint64_t lost_turn_ticks = 0;    // of those, ticks turning in place to look round
+  std::uint64_t lost_drive_ticks = 0;   // of those, ticks driving a leg toward open space
   std::uint32_t relocalisations = 0;    // pose jumps passed on to the mission
   bool stopped = false;                 // the mission was stopped by a fault (safe stop)
 };
@@ -103,7 +108,9 @@ class MissionRunner {
   double unlocalised_s_ = 0.0;  // held unlocalised in a row [s]
   const Topic<OdometryMsg>* pose_ = nullptr;
   std::uint32_t seen_relocalisations_ = 0;
-  MotionRequest held() const;
+  ObstacleStopConfig stop_cfg_;
+  LostExplorer explorer_;
+  MotionRequest held();
   bool entered_ = false;
   bool imu_present_;
   bool imu_seen_ = false;

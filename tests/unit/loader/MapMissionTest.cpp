@@ -121,6 +121,7 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   // Told where it starts, it waits still while not localised.
   EXPECT_FALSE(c.localisation.search_while_unlocalised);
   EXPECT_EQ(c.runner.lost_turn_radps, 0.0);
+  EXPECT_EQ(c.runner.lost_explore.speed_mps, 0.0);
   // Held unlocalised for a minute, it gives up with not_localised (the runner's default waits).
   EXPECT_EQ(c.runner.max_unlocalised_s, 60.0);
   EXPECT_EQ(b.config.runner.max_unlocalised_s, 0.0);
@@ -138,6 +139,10 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   // A robot that may be carried elsewhere searches the map and looks round while lost.
   EXPECT_TRUE(d.localisation.search_while_unlocalised);
   EXPECT_GT(d.runner.lost_turn_radps, 0.0);
+  // Still lost after a whole turn, it drives legs toward open space, at a walking pace.
+  EXPECT_GT(d.runner.lost_explore.speed_mps, 0.0);
+  EXPECT_LE(d.runner.lost_explore.speed_mps, 0.3);
+  EXPECT_TRUE(d.runner.validate().is_ok()) << d.runner.validate().message();
 }
 
 // How long the robot may stay unlocalised is the mission's to say (a large site may need more

@@ -333,5 +333,64 @@ TEST(MissionRunnerTest, LostItDoesNotTurnOntoWhatItSawBeforeItsBlindSector) {
   EXPECT_DOUBLE_EQ(r.motion.get().twist.wz, 0.3);
 }
 
+// Still lost after a whole turn, the runner drives a leg toward open space (LostExplorer); found
+// in the middle of it and lost again, it starts from a whole turn; and it stops a leg short of
+// what the lidar shows ahead.
+TEST(MissionRunnerTest, LostAfterAWholeTurnItDrivesALegAndStopsShortOfAnObstacle) {
+  Rig r;
+  r.cfg.lost_turn_radps = 0.3;
+  r.cfg.lost_explore.speed_mps = 0.2;
+  ASSERT_TRUE(r.cfg.validate().is_ok()) << r.cfg.validate().message();
+  MissionRunner runner{r.cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
+  Topic<OdometryMsg> pose;
+  runner.watch_pose(pose);
+  r.mission.next.motion.twist = {0.3, 0.0, 0.0};
+  double t = 0.0;
+  // One tick: the odometry follows the last command, the scan shows a return `range` ahead.
+  auto tick = [&](bool localised, double range) {
+    Pose2& p = r.odom.edit().pose;
+    const Twist& c = r.motion.get().twist;
+    p.yaw = wrap_angle(p.yaw + c.wz * 0.01);
+    p.x += c.vx * std::cos(p.yaw) * 0.01;
+    p.y += c.vx * std::sin(p.yaw) * 0.01;
+    r.odom.publish(0);
+    r.obstacles.edit().update(scan_with_point_ahead(range), p);
+    r.obstacles.publish(0);
+    pose.edit().localised = localised;
+    pose.publish(0);
+    r.run(runner, t);
+    t += 0.01;
+  };
+  // Lost: ticks until it drives; a whole turn at 0.3 rad/s is 2,094 ticks.
+  auto ticks_to_a_leg = [&](double range) {
+    int n = 0;
+    do {
+      tick(false, range);
+      ++n;
+    } while (r.motion.get().twist.vx == 0.0 && n < 4000);
+    return n;
+  };
+  const double open = std::numeric_limits<double>::infinity();
+  tick(true, open);  // entered
+  int n = ticks_to_a_leg(open);
+  EXPECT_GT(n, 2094);
+  EXPECT_LT(n, 2200);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.2);
+  for (int i = 0; i < 100; ++i) tick(false, open);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.2);
+  EXPECT_EQ(runner.telemetry().lost_drive_ticks, 101U);
+  // Found in the middle of the leg: the mission drives. Lost again: a whole turn first.
+  tick(true, open);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.3);
+  n = ticks_to_a_leg(open);
+  EXPECT_GT(n, 2094);
+  EXPECT_LT(n, 2200);
+  // A return 0.8 m ahead of the centre: 0.55 m from the bumper, less than stop_free_m (0.6).
+  const std::uint64_t driven = runner.telemetry().lost_drive_ticks;
+  tick(false, 0.8);
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+  EXPECT_EQ(runner.telemetry().lost_drive_ticks, driven);
+}
+
 }  // namespace
 }  // namespace carril::fw
