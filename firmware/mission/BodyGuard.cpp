@@ -48,6 +48,20 @@ void BodyGuard::gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid)
   }
 }
 
+void BodyGuard::add_points(const Vec2* points, std::size_t count, const Pose2& pose) {
+  if (crowded_) return;
+  const PoseFrame frame(pose);
+  const double r2 = radius_ * radius_;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec2 p = frame.to_robot(points[i]);
+    if (p.squaredNorm() > r2 || (std::fabs(p.x()) <= hl_ && std::fabs(p.y()) <= hw_)) continue;
+    if (!cells_.try_push_back(Cell{float(p.x()), float(p.y())})) {
+      crowded_ = true;
+      return;
+    }
+  }
+}
+
 BodyGuard::Nearest BodyGuard::nearest() const {
   return nearest_around(Vec2(0.0, 0.0), 1e150);
 }

@@ -35,6 +35,9 @@ class BodyGuard {
 
   // The lethal cells of grid within the radius of pose, in the body frame. Never allocates.
   void gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid);
+  // Adds points of another frame (`pose` is the body's pose in it) within the radius and outside
+  // the body, as cells: lidar returns, which hold wherever the localisation puts the robot.
+  void add_points(const Vec2* points, std::size_t count, const Pose2& pose);
 
   struct Nearest {
     bool found = false;

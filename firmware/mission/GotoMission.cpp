@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/MissionRunner.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
 
 namespace carril::fw {
@@ -207,6 +208,7 @@ MissionOutput GotoMission::goal_reached(const Pose2& pose) {
 }
 
 MissionOutput GotoMission::update(const MissionContext& ctx) {
+  lidar_ = ctx.guard;
   const Pose2 pose = odom_.get().pose;
   switch (state_) {
     case State::Wait:
@@ -487,7 +489,15 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
   const Vec2 here(pose.x, pose.y);
   const bool tight =
       cfg_.corner_pad_m >= 0.0 && t.vx >= 0.0 && std::fabs(t.wz) >= cfg_.turn_in_place_min_radps;
-  if (escaping_ || tight) guard_.gather(pose, costmap_.obstacles());
+  if (escaping_ || tight) {
+    guard_.gather(pose, costmap_.obstacles());
+    // What the lidar saw before it left its view: a 180 deg lidar is blind beside and behind,
+    // where a turn's corners sweep, and a relocalisation clears the costmap's marks.
+    if (lidar_ != nullptr && lidar_->field().valid()) {
+      const auto& m = lidar_->field().remembered();
+      guard_.add_points(m.begin(), m.size(), lidar_->odom_pose());
+    }
+  }
   if (escaping_) {
     // An escape runs its distance (deciding afresh each tick flips between ahead and back where
     // the two are about as good), unless something now stands in its way.

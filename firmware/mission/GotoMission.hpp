@@ -155,6 +155,7 @@ class GotoMission final : public Mission {
   bool lethal_at_edge(const Pose2& pose, double x_body) const;
   MissionOutput emergency_stop(const Pose2& pose);
   MissionOutput corner_guarded(const Pose2& pose, MissionOutput out);
+  const ObstacleGuard* lidar_ = nullptr;  // this tick's (MissionContext::guard)
   MissionOutput backup(const Pose2& pose);
   bool start_cell(const Pose2& pose, GridCell& out) const;
   bool goal_in_obstacle(int gx, int gy) const;

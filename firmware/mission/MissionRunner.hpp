@@ -58,6 +58,11 @@ class ObstacleGuard {
 
   void new_tick() { known_ = false; }
   bool ahead() const;
+  // The lidar's returns (odometry frame, with those it remembers from its blind sector) and the
+  // odometry pose they are relative to: what the missions' own body checks can add to a map-frame
+  // costmap whose marks a relocalisation has just cleared.
+  const ObstacleField& field() const { return obstacles_.get(); }
+  const Pose2& odom_pose() const { return odom_.get().pose; }
 
  private:
   ObstacleStopConfig cfg_;

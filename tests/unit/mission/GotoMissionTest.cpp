@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/MissionRunner.hpp"
 
 namespace carril::fw {
 namespace {
@@ -61,6 +64,23 @@ class TestCostmap final : public CostmapView {
   RollingGrid<std::uint8_t> master_, obstacles_;
   std::uint32_t updates_ = 0;
 };
+
+// Least distance from the outline of a 0.5 x 0.5 m body at `p` to the rectangle [x0, x1] x
+// [y0, y1] [m]; -1 when a point of the outline is inside it.
+double body_to_wall(const Pose2& p, double x0, double y0, double x1, double y1) {
+  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
+  double best = 1e9;
+  for (int k = 0; k <= 40; ++k) {
+    const double u = -0.25 + 0.5 * k / 40.0;
+    for (const Vec2& b : {Vec2(0.25, u), Vec2(-0.25, u), Vec2(u, 0.25), Vec2(u, -0.25)}) {
+      const double x = p.x + c * b.x() - s * b.y(), y = p.y + s * b.x() + c * b.y();
+      const double dx = std::fmax(0.0, std::fmax(x0 - x, x - x1));
+      const double dy = std::fmax(0.0, std::fmax(y0 - y, y - y1));
+      best = std::fmin(best, dx == 0.0 && dy == 0.0 ? -1.0 : std::hypot(dx, dy));
+    }
+  }
+  return best;
+}
 
 struct Rig {
   explicit Rig(Pose2 goal) {
@@ -414,6 +434,72 @@ TEST(GotoMissionTest, ATurnThatWouldSwingACornerIntoAWallMovesClearFirst) {
   const Result off = run(-1.0);
   EXPECT_LT(off.clearance, 0.0);  // a corner inside the wall
   EXPECT_EQ(off.escapes, 0U);
+}
+
+// A wall along the body's right side as above (longer: x -1.5 to 2.5), but not in the costmap's
+// lidar layer (a relocalisation has just cleared its marks, and a 180 deg lidar cannot see beside
+// the body to mark it again): only the obstacle field's memory of returns that left the lidar's
+// view holds it. With that memory handed over through the context's guard, the robot moves clear
+// before it turns; without it, a corner goes into the wall (goto in the warehouse aisle kidnap,
+// seed 40, touched a rack so).
+TEST(GotoMissionTest, TheLidarsMemoryOfItsBlindSectorHoldsATurnTheCostmapForgot) {
+  const auto run = [](bool memory) {
+    Rig r(Pose2{-1.0, 0.3, kPi});
+    r.pose = Pose2{1.0, 0.0, 0.0};
+    r.costmap.wall(-1.48, -0.43, 2.48, -0.37, false);
+    // The field: a scan all round from the centre sees the wall's face (y = -0.35, x -1.5 to
+    // 2.5), then a scan of three beams straight ahead shows nothing, so the wall is only
+    // remembered.
+    // Remembered out to 2 m: the test sends no scans while the robot moves.
+    Topic<ObstacleField> field{Footprint{0.25, 0.25}, 0.0, 0.0, 0.0, 2.0};
+    hal::LaserScan wide;
+    wide.seq = 1;
+    wide.count = 360;
+    wide.angle_min_rad = float(-kPi);
+    wide.angle_increment_rad = float(kPi / 180.0);
+    wide.range_min_m = 0.02F;
+    wide.range_max_m = 10.0F;
+    for (int i = 0; i < wide.count; ++i) {
+      const double a = -kPi + i * kPi / 180.0;
+      const double range = std::sin(a) < -0.05 ? 0.35 / -std::sin(a) : 1e9;
+      const double x = 1.0 + range * std::cos(a);
+      wide.ranges_m[std::size_t(i)] = x >= -1.5 && x <= 2.5 && range < 10.0
+                                          ? float(range)
+                                          : std::numeric_limits<float>::infinity();
+    }
+    field.edit().update(wide, r.pose);
+    hal::LaserScan ahead = wide;
+    ahead.seq = 2;
+    ahead.count = 3;
+    ahead.angle_min_rad = -0.01F;
+    ahead.angle_increment_rad = 0.01F;
+    for (int i = 0; i < 3; ++i)
+      ahead.ranges_m[std::size_t(i)] = std::numeric_limits<float>::infinity();
+    field.edit().update(ahead, r.pose);
+    field.publish(0);
+    EXPECT_TRUE(field.get().points().empty());
+    EXPECT_GE(field.get().remembered().size(), 20U);
+    ObstacleGuard guard(ObstacleStopConfig{}, field, r.odom);
+    if (memory) r.ctx.guard = &guard;
+    r.start();
+    double clearance = 1e9;
+    for (int i = 0; i < 6000 && r.mission->current() != GotoMission::State::Done &&
+                    r.mission->current() != GotoMission::State::Failed;
+         ++i) {
+      r.run(0.01);
+      clearance = std::fmin(clearance, body_to_wall(r.pose, -1.5, -0.45, 2.5, -0.35));
+    }
+    MissionCounters c;
+    r.mission->counters(c);
+    EXPECT_EQ(r.mission->current(), memory ? GotoMission::State::Done : r.mission->current());
+    return std::make_pair(clearance, c[6].value);
+  };
+  const auto [with_clearance, with_escapes] = run(true);
+  EXPECT_GE(with_clearance, 0.015);
+  EXPECT_GE(with_escapes, 1U);
+  const auto [without_clearance, without_escapes] = run(false);
+  EXPECT_LT(without_clearance, 0.0);
+  EXPECT_EQ(without_escapes, 0U);
 }
 
 }  // namespace
