@@ -97,6 +97,7 @@ void MissionRunner::run() {
       return;
     }
     const MotionRequest m = held();
+    tel_.lost_legs = explorer_.legs();
     if (m.twist.vx != 0.0) {
       ++tel_.lost_drive_ticks;
     } else if (m.twist.wz != 0.0) {

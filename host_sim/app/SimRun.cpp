@@ -260,7 +260,10 @@ RunSummary SimRun::summary(double wall_time_s) {
                                {"lost_by_fit", long(lt.lost_by_fit)},
                                {"relocalisations", long(lt.relocalisations)},
                                {"spreads", long(lt.spreads)},
-                               {"wrong_convergences", long(lt.wrong_convergences)}};
+                               {"wrong_convergences", long(lt.wrong_convergences)},
+                               {"lost_turn_ticks", long(all.runner.lost_turn_ticks)},
+                               {"lost_drive_ticks", long(all.runner.lost_drive_ticks)},
+                               {"lost_legs", long(all.runner.lost_legs)}};
   }
   r.mission = all.mission;
   for (const fw::MissionCounter& c : all.mission_counters) {

@@ -379,6 +379,7 @@ TEST(MissionRunnerTest, LostAfterAWholeTurnItDrivesALegAndStopsShortOfAnObstacle
   for (int i = 0; i < 100; ++i) tick(false, open);
   EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.2);
   EXPECT_EQ(runner.telemetry().lost_drive_ticks, 101U);
+  EXPECT_EQ(runner.telemetry().lost_legs, 1U);
   // Found in the middle of the leg: the mission drives. Lost again: a whole turn first.
   tick(true, open);
   EXPECT_DOUBLE_EQ(r.motion.get().twist.vx, 0.3);
@@ -386,6 +387,7 @@ TEST(MissionRunnerTest, LostAfterAWholeTurnItDrivesALegAndStopsShortOfAnObstacle
   EXPECT_GT(n, 2094);
   EXPECT_LT(n, 2200);
   // A return 0.8 m ahead of the centre: 0.55 m from the bumper, less than stop_free_m (0.6).
+  EXPECT_EQ(runner.telemetry().lost_legs, 2U);
   const std::uint64_t driven = runner.telemetry().lost_drive_ticks;
   tick(false, 0.8);
   EXPECT_EQ(r.motion.get().twist.vx, 0.0);
