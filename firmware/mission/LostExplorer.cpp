@@ -1,5 +1,6 @@
 #include "firmware/mission/LostExplorer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace carril::fw {
@@ -100,7 +101,7 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m) {
       }
       t.vx = cfg_.speed_mps;
       const double w = kHeadingGain * wrap_angle(last_leg_yaw_ - odom.yaw);
-      t.wz = std::fabs(w) < turn_radps_ ? w : (w > 0.0 ? turn_radps_ : -turn_radps_);
+      t.wz = std::clamp(w, -turn_radps_, turn_radps_);
       return t;
     }
   }

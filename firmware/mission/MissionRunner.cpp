@@ -55,7 +55,6 @@ MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, in
       lost_turn_radps_(cfg.lost_turn_radps),
       lost_turn_clearance_m_(cfg.lost_turn_clearance_m),
       max_unlocalised_s_(cfg.max_unlocalised_s),
-      stop_cfg_(cfg.obstacle),
       explorer_(cfg.lost_explore, cfg.lost_turn_radps),
       imu_present_(imu_present) {}
 
@@ -72,7 +71,7 @@ MotionRequest MissionRunner::held() {
   // blind sector too (what it saw there is remembered).
   const bool can_turn =
       f.clearance_all_round_m(pose) >= f.footprint().turn_sweep_m() + lost_turn_clearance_m_;
-  const double free_m = f.ahead_m(pose, stop_cfg_.corridor_margin_m, 50.0);
+  const double free_m = f.ahead_m(pose, guard_.config().corridor_margin_m, 50.0);
   m.twist = explorer_.step(pose, can_turn, free_m);
   return m;
 }

@@ -58,6 +58,7 @@ class ObstacleGuard {
 
   void new_tick() { known_ = false; }
   bool ahead() const;
+  const ObstacleStopConfig& config() const { return cfg_; }
   // The lidar's returns (odometry frame, with those it remembers from its blind sector) and the
   // odometry pose they are relative to: what the missions' own body checks can add to a map-frame
   // costmap whose marks a relocalisation has just cleared.
@@ -114,7 +115,6 @@ class MissionRunner {
   double unlocalised_s_ = 0.0;  // held unlocalised in a row [s]
   const Topic<OdometryMsg>* pose_ = nullptr;
   std::uint32_t seen_relocalisations_ = 0;
-  ObstacleStopConfig stop_cfg_;
   LostExplorer explorer_;
   MotionRequest held();
   bool entered_ = false;
