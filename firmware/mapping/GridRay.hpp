@@ -51,6 +51,17 @@ bool same_window(const RollingGrid<A>& a, const RollingGrid<B>& b) {
 inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double xmin, double ymin,
                          double xmax, double ymax, bool& end_clipped) {
   const double dx = x1 - x0, dy = y1 - y0;
+  // Both ends inside (the common lidar ray): the loop below would keep t0 = 0 and t1 = 1, since
+  // rounding is monotonic (q >= 0 where p < 0, q >= p where p > 0), and write these very values,
+  // without its four divisions.
+  if (x0 >= xmin && x0 <= xmax && y0 >= ymin && y0 <= ymax && x1 >= xmin && x1 <= xmax &&
+      y1 >= ymin && y1 <= ymax) {
+    end_clipped = false;
+    const double sx = x0, sy = y0;
+    x1 = sx + dx;
+    y1 = sy + dy;
+    return true;
+  }
   double t0 = 0.0, t1 = 1.0;
   const double p[4] = {-dx, dx, -dy, dy};
   const double q[4] = {x0 - xmin, xmax - x0, y0 - ymin, ymax - y0};

@@ -40,6 +40,7 @@ bool ObstacleLayer::init(const ObstacleLayerConfig& cfg, int nx, int ny, double 
   cfg_ = cfg;
   scan_counter_ = 0;
   decayed_once_ = false;
+  start_ = RayStart{};
   return cost_.init(nx, ny, resolution_m, cost::kUnknown) &&
          state_.init(nx, ny, resolution_m, CellState{});
 }
@@ -71,8 +72,13 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
     return;
   }
   const int lo_x = cost_.origin_cx(), lo_y = cost_.origin_cy();
-  const int cx0 = std::clamp(cost_.cell_of(x0), lo_x, lo_x + nx - 1);
-  const int cy0 = std::clamp(cost_.cell_of(y0), lo_y, lo_y + ny - 1);
+  // The rays of a scan start at the same point (the sensor, with no minimum range): its cell is
+  // worked out once, not with two divisions per ray.
+  if (x0 != start_.x || y0 != start_.y || lo_x != start_.lo_x || lo_y != start_.lo_y) {
+    start_ = RayStart{x0, y0, lo_x, lo_y, std::clamp(cost_.cell_of(x0), lo_x, lo_x + nx - 1),
+                      std::clamp(cost_.cell_of(y0), lo_y, lo_y + ny - 1)};
+  }
+  const int cx0 = start_.cx, cy0 = start_.cy;
   const int cx1 = std::clamp(cost_.cell_of(x1), lo_x, lo_x + nx - 1);
   const int cy1 = std::clamp(cost_.cell_of(y1), lo_y, lo_y + ny - 1);
   std::uint8_t* cost = grid::storage_base(cost_);

@@ -18,6 +18,7 @@
 // A per-cell counter was chosen over int8 log-odds: it has the same hysteresis with a number a
 // user can tune ("cleared after 3 scans") and exact, testable behaviour.
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "firmware/core/BeamDirections.hpp"
@@ -80,6 +81,12 @@ class ObstacleLayer {
   RollingGrid<CellState> state_;
   BeamDirections beams_;  // the beams' directions in the sensor frame, kept across scans
   std::array<int, 2 * hal::kMaxScanBeams> hits_{};  // this scan's hit cells (cx, cy), marked last
+  // The last ray's start point [m], window corner [cells] and start cell [cells].
+  struct RayStart {
+    double x = HUGE_VAL, y = HUGE_VAL;
+    int lo_x = 0, lo_y = 0, cx = 0, cy = 0;
+  };
+  RayStart start_;
   std::uint8_t scan_counter_ = 0;
   std::uint16_t last_decay_ds_ = 0;
   bool decayed_once_ = false;
