@@ -75,7 +75,11 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   // The rays of a scan start at the same point (the sensor, with no minimum range): its cell is
   // worked out once, not with two divisions per ray.
   if (x0 != start_.x || y0 != start_.y || lo_x != start_.lo_x || lo_y != start_.lo_y) {
-    start_ = RayStart{x0, y0, lo_x, lo_y, std::clamp(cost_.cell_of(x0), lo_x, lo_x + nx - 1),
+    start_ = RayStart{x0,
+                      y0,
+                      lo_x,
+                      lo_y,
+                      std::clamp(cost_.cell_of(x0), lo_x, lo_x + nx - 1),
                       std::clamp(cost_.cell_of(y0), lo_y, lo_y + ny - 1)};
   }
   const int cx0 = start_.cx, cy0 = start_.cy;

@@ -247,12 +247,18 @@ TEST(GridRayTest, ClipOfASegmentInsideGivesTheLoopsValuesToTheBit) {
   const double xmin = -3.7, ymin = -1.1, xmax = 8.3, ymax = 5.9;
   const auto pick = [&](std::uniform_real_distribution<double>& d, double lo, double hi) {
     switch (rng() % 7) {
-      case 0: return lo;
-      case 1: return hi;
-      case 2: return std::nextafter(hi, lo);
-      case 3: return std::nextafter(lo, lo - 1.0);  // just outside: the loop's case
-      case 4: return d(rng) + (hi - lo) * 0.5;      // maybe outside
-      default: return d(rng);
+      case 0:
+        return lo;
+      case 1:
+        return hi;
+      case 2:
+        return std::nextafter(hi, lo);
+      case 3:
+        return std::nextafter(lo, lo - 1.0);  // just outside: the loop's case
+      case 4:
+        return d(rng) + (hi - lo) * 0.5;  // maybe outside
+      default:
+        return d(rng);
     }
   };
   int moved_end = 0;
