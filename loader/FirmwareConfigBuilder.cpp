@@ -154,6 +154,7 @@ void apply_coverage(const RobotSpec& r, const MissionSpec& mission, fw::Firmware
   // no faster than the robot can.
   k.sweep.cruise_speed_mps = mission.speed_mps;
   k.sweep.max_yaw_rate_radps = c.limits.max_yaw_rate_radps;
+  k.sweep.period_s = 1.0 / c.rate_hz;
   k.transit_speed_mps =
       mission.transit_speed_mps > 0.0 ? mission.transit_speed_mps : mission.speed_mps;
   k.transit_pursuit.cruise_speed_mps = k.transit_speed_mps;
@@ -259,6 +260,10 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
       }
       return rejected(why, s);
     }
+  }
+  // The sweep's turns brake for the robot's yaw acceleration, whatever set it.
+  if (mission.type == "coverage") {
+    c.coverage.sweep.max_yaw_accel_radps2 = c.limits.max_yaw_accel_radps2;
   }
   BuildResult ok;
   ok.ok = true;

@@ -19,12 +19,15 @@ Status LaneFollowerConfig::validate() const {
       .range("bend_window_m", bend_window_m, 0.005, 1.0, "m")
       .range("goal_tolerance_m", goal_tolerance_m, 0.001, 1.0, "m")
       .range("rotate_in_place_rad", rotate_in_place_rad, 0.1, 3.2, "rad")
+      .range("max_yaw_accel_radps2", max_yaw_accel_radps2, 0.0, 100.0, "rad/s^2")
+      .range("period_s", period_s, 0.001, 1.0, "s")
       .result();
 }
 
 void LaneFollower::reset() {
   progress_ = 0;
   at_end_ = false;
+  wz_last_ = 0.0;
   cross_track_ = 0.0;
   curvature_ = 0.0;
 }
@@ -78,6 +81,22 @@ double path_curvature(const Vec2* path, std::size_t n, const PathProjection& at,
 }
 
 Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
+  const Twist t = command(pose, path, n);
+  wz_last_ = t.wz;
+  return t;
+}
+
+double LaneFollower::toward(double e) const {
+  const double p = cfg_.heading_gain * e;
+  if (cfg_.max_yaw_accel_radps2 <= 0.0) return p;
+  // A robot still turning fast when the heading is reached swings past it, and runs sideways
+  // into what the lane passes close by (a door's jamb).
+  const double room = std::max(0.0, std::fabs(e) - std::fabs(wz_last_) * cfg_.period_s);
+  const double w = std::min(std::fabs(p), std::sqrt(2.0 * cfg_.max_yaw_accel_radps2 * room));
+  return e < 0.0 ? -w : w;
+}
+
+Twist LaneFollower::command(const Pose2& pose, const Vec2* path, std::size_t n) {
   Twist t;
   if (n == 0 || path == nullptr || !std::isfinite(pose.x) || !std::isfinite(pose.y) ||
       !std::isfinite(pose.yaw)) {
@@ -85,7 +104,14 @@ Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
   }
   const Vec2 p{pose.x, pose.y};
   // A short window: routes run back and forth close to themselves.
-  const PathProjection at = project_on_path(path, n, p, progress_, 8);
+  PathProjection at = project_on_path(path, n, p, progress_, 8);
+  // Past the end of a segment that turns sharply, the corner's vertex is the nearest point of both
+  // segments, and the tie goes to the earlier one, whose heading leads on past the corner (a
+  // short first segment onto a lane): the later one is the one to follow.
+  if (at.segment + 2 < n && at.point.x() == path[at.segment + 1].x() &&
+      at.point.y() == path[at.segment + 1].y()) {
+    ++at.segment;
+  }
   progress_ = at.segment;
   const double to_end = (path[n - 1] - p).norm();
   if (to_end < cfg_.goal_tolerance_m || n < 2 || past_end(path, n, at, p)) at_end_ = true;
@@ -96,7 +122,7 @@ Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
   cross_track_ = tangent.x() * off.y() - tangent.y() * off.x();
   const double e_yaw = wrap_angle(heading - pose.yaw);
   if (std::fabs(e_yaw) > cfg_.rotate_in_place_rad) {
-    t.wz = clampd(cfg_.heading_gain * e_yaw, -cfg_.max_yaw_rate_radps, cfg_.max_yaw_rate_radps);
+    t.wz = clampd(toward(e_yaw), -cfg_.max_yaw_rate_radps, cfg_.max_yaw_rate_radps);
     return t;
   }
   const double a0 = cfg_.anticipation_m;
@@ -116,8 +142,7 @@ Twist LaneFollower::update(const Pose2& pose, const Vec2* path, std::size_t n) {
   }
   // Brake toward the route's end (distance along it approximated by the straight distance).
   v = std::min(v, std::max(cfg_.min_speed_mps, std::sqrt(2.0 * cfg_.decel_mps2 * to_end)));
-  const double wz =
-      v * curvature_ + cfg_.heading_gain * e_yaw + cfg_.cross_track_gain * v * cross_track_;
+  const double wz = v * curvature_ + toward(e_yaw) + cfg_.cross_track_gain * v * cross_track_;
   t.vx = v;
   t.wz = clampd(wz, -cfg_.max_yaw_rate_radps, cfg_.max_yaw_rate_radps);
   return t;

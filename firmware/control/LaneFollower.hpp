@@ -29,6 +29,10 @@ struct LaneFollowerConfig {
   double bend_window_m = 0.06;       // ...each measured over this (short: tight bends) [m]
   double goal_tolerance_m = 0.05;    // at the end within this distance [m]
   double rotate_in_place_rad = 0.6;  // heading error beyond this: turn on the spot [rad]
+  // The robot's yaw acceleration: turning toward the path's heading (on the spot or driving)
+  // brakes in time to stop on it, from the rate last asked for; 0: no such limit [rad/s^2].
+  double max_yaw_accel_radps2 = 0.0;
+  double period_s = 0.01;  // between update() calls (the braking allows a period's lag) [s]
 
   Status validate() const;
 };
@@ -50,9 +54,14 @@ class LaneFollower {
 
  private:
   static constexpr int kBrakeSamples = 6;  // bends looked at ahead
+  Twist command(const Pose2& pose, const Vec2* path, std::size_t n);
+  // The yaw rate [rad/s] that turns through heading error e [rad] at heading_gain and, with a yaw
+  // acceleration limit, no faster than the robot can stop on the heading.
+  double toward(double e) const;
   LaneFollowerConfig cfg_;
   std::size_t progress_ = 0;
   bool at_end_ = false;
+  double wz_last_ = 0.0;  // the yaw rate last asked for [rad/s]
   double cross_track_ = 0.0, curvature_ = 0.0;
 };
 

@@ -89,7 +89,7 @@ struct CoverageConfig {
   double transit_edge_margin_m = 0.1;
   double transit_edge_lookahead_m = 0.25;  // [m]
   double lane_overlap = 0.1;               // lanes are tool_width * (1 - lane_overlap) apart [-]
-  double turn_radius_m = 0.0;        // U-turn arcs between lanes; 0: half the lane spacing [m]
+  double turn_radius_m = 0.0;  // U-turn arcs between lanes; 0: half the lane spacing [m]
   // The lanes and transits keep this much beyond the inscribed radius from the walls and from
   // obstacles the map does not show [m]
   double wall_clearance_m = 0.0;
@@ -171,6 +171,11 @@ class CoverageMission final : public Mission {
   const CoverageGrid& coverage() const { return coverage_; }
   const CoverageArea& area() const { return area_; }
   const Boustrophedon& decomposition() const { return bcd_; }
+  // The route left to sweep: n waypoints [m] from the returned one on.
+  const Vec2* sweep_route(std::size_t& n) const {
+    n = route_.size() - sweep_from_;
+    return route_.begin() + sweep_from_;
+  }
   std::uint32_t bumps() const { return bumps_; }
   std::uint32_t turns_left() const { return turns_left_; }
   std::uint32_t turns_right() const { return turns_right_; }
@@ -185,6 +190,9 @@ class CoverageMission final : public Mission {
   MissionOutput start_plan(Purpose p, const Pose2& pose);
   MissionOutput next_plan(Purpose p);  // planning starts at the next tick
   void arrive(const Pose2& pose);
+  // A new cell's sweep starting this far or more from its first point drives onto it first [m].
+  static constexpr double kOnRouteM = 0.03;
+  void start_route_here(const Pose2& pose);
   void finish_cell();
   MissionOutput plan_step(const Pose2& pose);
   MissionOutput planned(const Pose2& pose);

@@ -278,8 +278,29 @@ void CoverageMission::arrive(const Pose2& pose) {
     go(State::Spin, "spin");
     return;
   }
+  start_route_here(pose);
   sweep_follower_.reset();
   go(State::Sweep, "sweep");
+}
+
+// A new cell's sweep that starts beside its route's first point (the cell may begin just beside
+// where the last one ended, or a transit end within its tolerance) first drives onto it. Converging
+// onto the lane while driving along it would run the first stretch off the lane, wider of it than
+// the lane's clearance from a wall's end beside it. Not when the point lies behind, along the
+// route: that is only a turn back.
+void CoverageMission::start_route_here(const Pose2& pose) {
+  // A resumed lane starts past what blocked it: its first point is where the lane runs clear.
+  if (purpose_ != Purpose::NextCell || sweep_from_ + 1 >= route_.size()) return;
+  const Vec2 here(pose.x, pose.y), first = route_[sweep_from_];
+  const Vec2 to = first - here;
+  const double d = to.norm();
+  if (d < kOnRouteM) return;
+  const Vec2 along = route_[sweep_from_ + 1] - first;
+  if (to.dot(along) < -0.5 * d * along.norm()) return;
+  // A new cell's route starts at its beginning (sweep_from_ 0): the robot goes in front of it.
+  if (!route_.try_push_back(route_.back())) return;  // no room: converge as before
+  for (std::size_t k = route_.size() - 2; k > 0; --k) route_[k] = route_[k - 1];
+  route_[0] = here;
 }
 
 void CoverageMission::finish_cell() {

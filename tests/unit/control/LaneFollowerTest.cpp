@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,59 @@ TEST(LaneFollowerTest, ConvergesOntoALaneFromAnOffsetAndTurnsOnTheSpotWhenFacing
   const Twist t = f.update(away, p.data(), p.size());
   EXPECT_EQ(t.vx, 0.0);
   EXPECT_NE(t.wz, 0.0);
+}
+
+// Turning onto a lane at right angles, a robot whose yaw rate lags at 3 rad/s^2: with the braking
+// it stops turning close to the lane's heading; without it, the heading gain of 4 asks for more
+// deceleration than the robot has near the heading, and it swings well past (in the simulator,
+// where the wheels' acceleration is shared with the start of the drive, on into a door's jamb).
+TEST(LaneFollowerTest, TurningOntoALaneItBrakesForTheYawAccelerationAndDoesNotSwingPast) {
+  const std::vector<Vec2> p = {{0.0, 0.0}, {0.0, 3.0}};
+  const auto run = [&](double accel, double& overshoot) {
+    LaneFollowerConfig cfg;
+    cfg.max_yaw_rate_radps = 1.9;
+    cfg.max_yaw_accel_radps2 = accel;
+    LaneFollower f(cfg);
+    Lagging robot;
+    robot.pose = Pose2{0.0, 0.0, 0.0};
+    overshoot = 0.0;
+    for (int i = 0; i < 400; ++i) {
+      robot.step(f.update(robot.pose, p.data(), p.size()), 0.01);
+      overshoot = std::fmax(overshoot, robot.pose.yaw - 0.5 * kPi);
+    }
+    EXPECT_GT(robot.pose.y, 0.5);  // it got going
+  };
+  double braked = 0.0, plain = 0.0;
+  run(3.0, braked);
+  run(0.0, plain);
+  std::printf("swung past the lane's heading by %.3f rad (without the braking %.3f rad)\n", braked,
+              plain);
+  EXPECT_LT(braked, 0.07);
+  EXPECT_GT(plain, 0.1);  // the case the braking is for
+  EXPECT_LT(braked, 0.5 * plain);
+}
+
+// Past the end of a short segment onto a lane at right angles (where a cell's sweep starts beside
+// its lane), the corner's vertex is the nearest point of both segments: the follower takes the
+// lane, not the short segment's heading on past the corner.
+TEST(LaneFollowerTest, PastACornersVertexItTakesTheNextSegment) {
+  const std::vector<Vec2> p = {{0.0, 0.0}, {0.08, 0.0}, {0.08, -2.0}};
+  LaneFollower f;
+  const Pose2 past{0.11, 0.0, 0.0};
+  const Twist t = f.update(past, p.data(), p.size());
+  EXPECT_EQ(f.progress(), 1u);
+  EXPECT_EQ(t.vx, 0.0);  // turns on the spot toward the lane
+  EXPECT_LT(t.wz, 0.0);
+  // Driven through from the first point: down the lane, never far past the corner.
+  LaneFollower g;
+  Lagging robot;
+  double east = 0.0;
+  for (int i = 0; i < 1500 && !g.at_end(); ++i) {
+    robot.step(g.update(robot.pose, p.data(), p.size()), 0.01);
+    east = std::fmax(east, robot.pose.x);
+  }
+  EXPECT_TRUE(g.at_end());
+  EXPECT_LT(east, 0.15);
 }
 
 // A robot that reaches the end wider than goal_tolerance (8 cm to the side) stops there: driving

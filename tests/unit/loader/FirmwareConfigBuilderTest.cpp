@@ -181,6 +181,30 @@ TEST(FirmwareConfigBuilder, CoverageFollowersDriveTheMissionsSpeed) {
   EXPECT_DOUBLE_EQ(fast.config.coverage.lane_overlap, 0.05);
 }
 
+// The lanes' turns brake for the robot's yaw acceleration: the limits', a tuning file's when it
+// sets them (applied after the mission's followers are set up), at the control period.
+TEST(FirmwareConfigBuilder, CoverageSweepBrakesForTheYawAccelerationTheTuningSets) {
+  MissionSpec m = mission("marks", 0.3);
+  m.type = "coverage";
+  const BuildResult plain = build_firmware_config(robot("pioneer3at"), m);
+  ASSERT_TRUE(plain.ok) << plain.error;
+  EXPECT_EQ(plain.config.coverage.sweep.max_yaw_accel_radps2,
+            plain.config.limits.max_yaw_accel_radps2);
+  EXPECT_GT(plain.config.coverage.sweep.max_yaw_accel_radps2, 0.0);
+  EXPECT_DOUBLE_EQ(plain.config.coverage.sweep.period_s, 1.0 / plain.config.rate_hz);
+  const std::string path = write_file("yaw.yaml", "limits: {max_yaw_accel_radps2: 2.5}\n");
+  Tuning t;
+  std::string error;
+  ASSERT_TRUE(load_tuning(path, t, error)) << error;
+  const BuildResult tuned = build_firmware_config(robot("pioneer3at"), m, &t);
+  ASSERT_TRUE(tuned.ok) << tuned.error;
+  EXPECT_EQ(tuned.config.coverage.sweep.max_yaw_accel_radps2, 2.5);
+  // Other missions leave the lane follower as it is.
+  const BuildResult line = build_firmware_config(robot("pioneer3at"), mission("marks", 0.3));
+  ASSERT_TRUE(line.ok) << line.error;
+  EXPECT_EQ(line.config.coverage.sweep.max_yaw_accel_radps2, 0.0);
+}
+
 TEST(FirmwareConfigBuilder, UnknownStrategyIsRejected) {
   MissionSpec m = mission("zigzag", 0.5);
   m.source_path = "m.yaml";

@@ -103,6 +103,11 @@ struct Result {
   bool backed_up_after_bump = false, turned_after_backup = false;
   // Fastest speed in TRANSIT with a wall cell within 0.33 m of the centre, and farther [m/s].
   double transit_vx_near_wall = 0.0, transit_vx_open = 0.0;
+  // Where sweeps start: the farthest the robot stood from the route's first point when that
+  // lay ahead of it along the route, and how many routes were made to start where it stood [m,
+  // sweeps].
+  double sweep_start_off_m = 0.0;
+  int sweeps_from_the_robot = 0, sweeps = 0;
   std::vector<double> update_us;  // update() times on this host (figures, not tests) [us]
   double update_percentile(double q) const {
     if (update_us.empty()) return 0.0;
@@ -202,6 +207,18 @@ struct Rig {
       }
       if (prev == CoverageMission::State::BackUp && now == CoverageMission::State::Turn) {
         r.turned_after_backup = true;
+      }
+      if (now == CoverageMission::State::Sweep && prev != CoverageMission::State::Sweep) {
+        std::size_t n = 0;
+        const Vec2* route = mission->sweep_route(n);
+        const Vec2 to = n > 0 ? route[0] - Vec2(pose.x, pose.y) : Vec2(0.0, 0.0);
+        const double off = to.norm();
+        // A robot already past the route's start along it converges onto the lane ahead.
+        const bool ahead =
+            n < 2 || to.dot(route[1] - route[0]) >= -0.5 * off * (route[1] - route[0]).norm();
+        if (ahead) r.sweep_start_off_m = std::fmax(r.sweep_start_off_m, off);
+        if (off == 0.0) ++r.sweeps_from_the_robot;
+        ++r.sweeps;
       }
       prev = now;
       if (const char* ph = mission->take_phase_change(); ph != nullptr && trace_) {
@@ -309,6 +326,24 @@ TEST(CoverageMissionTest, SystematicCoversTheTwoRoomsAndEndsDone) {
 
 // Transits above the lanes' speed only in the open: within 0.33 m of a wall cell (the body's 0.25 m
 // radius, the 0.1 m edge margin less a cell's diagonal) at the lanes' speed at most.
+// A new cell's sweep starts on its route: where the robot stands 3 cm or more short of or beside
+// the route's first point (a cell that begins just beside where the last one ended is not driven
+// to by a transit), the route is made to start where it stands, and the robot drives onto the
+// lane before along it, instead of converging onto the lane along a first stretch run wide of it.
+// (Past the first point along the route, it converges onto the lane ahead: going back would be a
+// turn about.)
+TEST(CoverageMissionTest, ANewCellsSweepStartsWhereTheRobotStands) {
+  Rig rig(CoverageMode::Systematic);
+  rig.start();
+  const Result r = rig.run(600.0);
+  ASSERT_EQ(rig.mission->current(), CoverageMission::State::Done);
+  std::printf("%d sweeps, %d started where the robot stood, the farthest start %.3f m off\n",
+              r.sweeps, r.sweeps_from_the_robot, r.sweep_start_off_m);
+  EXPECT_LT(r.sweep_start_off_m, 0.03);
+  EXPECT_GE(r.sweeps_from_the_robot, 1);  // the case happens in these rooms
+  EXPECT_EQ(r.collisions, 0);
+}
+
 TEST(CoverageMissionTest, TransitsAreFastInTheOpenAndSlowNearWalls) {
   Rig rig(CoverageMode::Systematic);
   rig.cfg.transit_speed_mps = 0.8;
