@@ -47,21 +47,11 @@ bool same_window(const RollingGrid<A>& a, const RollingGrid<B>& b) {
 }
 
 // Clips the segment (x0, y0) -> (x1, y1) [m] to the box [xmin, xmax] x [ymin, ymax]
-// (Liang-Barsky). false when nothing of it is inside. end_clipped tells whether (x1, y1) moved.
-inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double xmin, double ymin,
-                         double xmax, double ymax, bool& end_clipped) {
+// (Liang-Barsky), whatever the ends. false when nothing of it is inside. end_clipped tells whether
+// (x1, y1) moved.
+inline bool clip_segment_any(double& x0, double& y0, double& x1, double& y1, double xmin,
+                             double ymin, double xmax, double ymax, bool& end_clipped) {
   const double dx = x1 - x0, dy = y1 - y0;
-  // Both ends inside (the common lidar ray): the loop below would keep t0 = 0 and t1 = 1, since
-  // rounding is monotonic (q >= 0 where p < 0, q >= p where p > 0), and write these very values,
-  // without its four divisions.
-  if (x0 >= xmin && x0 <= xmax && y0 >= ymin && y0 <= ymax && x1 >= xmin && x1 <= xmax &&
-      y1 >= ymin && y1 <= ymax) {
-    end_clipped = false;
-    const double sx = x0, sy = y0;
-    x1 = sx + dx;
-    y1 = sy + dy;
-    return true;
-  }
   double t0 = 0.0, t1 = 1.0;
   const double p[4] = {-dx, dx, -dy, dy};
   const double q[4] = {x0 - xmin, xmax - x0, y0 - ymin, ymax - y0};
@@ -86,6 +76,22 @@ inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double 
   x1 = sx + t1 * dx;
   y1 = sy + t1 * dy;
   return true;
+}
+
+// clip_segment_any, with the common lidar ray (both ends inside) answered without its four
+// divisions: the loop would keep t0 = 0 and t1 = 1 there, since rounding is monotonic (q >= 0
+// where p < 0, q >= p where p > 0), and write these very values.
+inline bool clip_segment(double& x0, double& y0, double& x1, double& y1, double xmin, double ymin,
+                         double xmax, double ymax, bool& end_clipped) {
+  if (x0 >= xmin && x0 <= xmax && y0 >= ymin && y0 <= ymax && x1 >= xmin && x1 <= xmax &&
+      y1 >= ymin && y1 <= ymax) {
+    end_clipped = false;
+    const double sx = x0, sy = y0;
+    x1 = sx + (x1 - sx);
+    y1 = sy + (y1 - sy);
+    return true;
+  }
+  return clip_segment_any(x0, y0, x1, y1, xmin, ymin, xmax, ymax, end_clipped);
 }
 
 // How many steps of s (+1 or -1) take a storage coordinate from p in [0, n) out of [0, n): the

@@ -208,39 +208,9 @@ TEST(GridRayTest, ClipKeepsThePartInsideTheBox) {
   EXPECT_FALSE(grid::clip_segment(x0, y0, x1, y1, 0.0, 0.0, 2.0, 1.0, end_clipped));
 }
 
-// Liang-Barsky as clip_segment did it before its shortcut for segments wholly inside the box.
-bool clip_by_the_loop(double& x0, double& y0, double& x1, double& y1, double xmin, double ymin,
-                      double xmax, double ymax, bool& end_clipped) {
-  const double dx = x1 - x0, dy = y1 - y0;
-  double t0 = 0.0, t1 = 1.0;
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {x0 - xmin, xmax - x0, y0 - ymin, ymax - y0};
-  for (int i = 0; i < 4; ++i) {
-    if (p[i] == 0.0) {
-      if (q[i] < 0.0) return false;
-      continue;
-    }
-    const double t = q[i] / p[i];
-    if (p[i] < 0.0) {
-      if (t > t1) return false;
-      if (t > t0) t0 = t;
-    } else {
-      if (t < t0) return false;
-      if (t < t1) t1 = t;
-    }
-  }
-  end_clipped = t1 < 1.0;
-  const double sx = x0, sy = y0;
-  x0 = sx + t0 * dx;
-  y0 = sy + t0 * dy;
-  x1 = sx + t1 * dx;
-  y1 = sy + t1 * dy;
-  return true;
-}
-
-// The shortcut for a segment inside the box gives the loop's values to the bit: the ray's cells
-// depend on them. Ends on the box's edges and corners, one ulp inside and outside, and farther
-// out (the loop's case) are among the draws.
+// clip_segment's shortcut for a segment inside the box gives clip_segment_any's values to the bit:
+// the ray's cells depend on them. Ends on the box's edges and corners, one ulp inside and outside,
+// and farther out (the loop's case) are among the draws.
 TEST(GridRayTest, ClipOfASegmentInsideGivesTheLoopsValuesToTheBit) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> in_x(-3.7, 8.3), in_y(-1.1, 5.9);
@@ -269,7 +239,7 @@ TEST(GridRayTest, ClipOfASegmentInsideGivesTheLoopsValuesToTheBit) {
     const double x1_in = a[2], y1_in = a[3];
     bool ea = true, eb = true;
     const bool ra = grid::clip_segment(a[0], a[1], a[2], a[3], xmin, ymin, xmax, ymax, ea);
-    const bool rb = clip_by_the_loop(b[0], b[1], b[2], b[3], xmin, ymin, xmax, ymax, eb);
+    const bool rb = grid::clip_segment_any(b[0], b[1], b[2], b[3], xmin, ymin, xmax, ymax, eb);
     ASSERT_EQ(ra, rb) << k;
     ASSERT_EQ(ea, eb) << k;
     for (int i = 0; i < 4; ++i) {
