@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
-#include "firmware/mission/MissionRunner.hpp"
+#include "firmware/mission/ObstacleGuard.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
 
 namespace carril::fw {
@@ -208,7 +208,6 @@ MissionOutput GotoMission::goal_reached(const Pose2& pose) {
 }
 
 MissionOutput GotoMission::update(const MissionContext& ctx) {
-  lidar_ = ctx.guard;
   const Pose2 pose = odom_.get().pose;
   switch (state_) {
     case State::Wait:
@@ -221,7 +220,7 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
     case State::Plan:
       return plan_step(pose);
     case State::Follow:
-      return follow(pose);
+      return follow(pose, ctx.guard);
     case State::Backup:
       return backup(pose);
     case State::Approach: {
@@ -428,7 +427,7 @@ MissionOutput GotoMission::backup(const Pose2& pose) {
   return out;
 }
 
-MissionOutput GotoMission::follow(const Pose2& pose) {
+MissionOutput GotoMission::follow(const Pose2& pose, const ObstacleGuard* lidar) {
   if ((goal_xy() - Vec2(pose.x, pose.y)).norm() <= cfg_.approach_m) {
     go(State::Approach, "approach");
     return {};
@@ -475,16 +474,17 @@ MissionOutput GotoMission::follow(const Pose2& pose) {
     if (std::fabs(out.motion.twist.wz) >= cfg_.turn_in_place_min_radps) {
       out.motion.twist.vx = 0.0;
       out.motion.twist.vy = 0.0;
-      return corner_guarded(pose, out);
+      return corner_guarded(pose, out, lidar);
     }
     return emergency_stop(pose);
   }
   if (at_end) go(State::Approach, "approach");
-  return corner_guarded(pose, out);
+  return corner_guarded(pose, out, lidar);
 }
 
 // A tight turn checked with the corners (see corner_pad_m); other commands pass unchanged.
-MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) {
+MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out,
+                                          const ObstacleGuard* lidar) {
   Twist& t = out.motion.twist;
   const Vec2 here(pose.x, pose.y);
   const bool tight =
@@ -493,9 +493,9 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out) 
     guard_.gather(pose, costmap_.obstacles());
     // What the lidar saw before it left its view: a 180 deg lidar is blind beside and behind,
     // where a turn's corners sweep, and a relocalisation clears the costmap's marks.
-    if (lidar_ != nullptr && lidar_->field().valid()) {
-      const auto& m = lidar_->field().remembered();
-      guard_.add_points(m.begin(), m.size(), lidar_->odom_pose());
+    if (lidar != nullptr && lidar->field().valid()) {
+      const auto& m = lidar->field().remembered();
+      guard_.add_points(m.begin(), m.size(), lidar->odom_pose());
     }
   }
   if (escaping_) {

@@ -149,13 +149,13 @@ class GotoMission final : public Mission {
  private:
   void go(State s, const char* phase);
   MissionOutput plan_step(const Pose2& pose);
-  MissionOutput follow(const Pose2& pose);
+  MissionOutput follow(const Pose2& pose, const ObstacleGuard* lidar);
   bool path_blocked_ahead(const Pose2& pose) const;
   bool lethal_ahead(const Pose2& pose) const;
   bool lethal_at_edge(const Pose2& pose, double x_body) const;
   MissionOutput emergency_stop(const Pose2& pose);
-  MissionOutput corner_guarded(const Pose2& pose, MissionOutput out);
-  const ObstacleGuard* lidar_ = nullptr;  // this tick's (MissionContext::guard)
+  // lidar: the tick's MissionContext::guard, whose remembered returns the check adds (may be null).
+  MissionOutput corner_guarded(const Pose2& pose, MissionOutput out, const ObstacleGuard* lidar);
   MissionOutput backup(const Pose2& pose);
   bool start_cell(const Pose2& pose, GridCell& out) const;
   bool goal_in_obstacle(int gx, int gy) const;

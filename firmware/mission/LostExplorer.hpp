@@ -39,6 +39,9 @@ class LostExplorer {
 
   Phase phase() const { return phase_; }
   std::uint32_t legs() const { return legs_; }  // legs started since construction
+  // Whether it drives legs (speed_mps > 0); without legs, what step() asks for does not depend
+  // on free_m.
+  bool drives() const { return cfg_.speed_mps > 0.0; }
 
  private:
   void start_turn();

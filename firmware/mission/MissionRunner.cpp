@@ -5,13 +5,6 @@
 
 namespace carril::fw {
 
-Status ObstacleStopConfig::validate() const {
-  return Checks("runner.obstacle")
-      .range("stop_m", stop_m, 0.05, 5.0, "m")
-      .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
-      .result();
-}
-
 Status MissionRunnerConfig::validate() const {
   return Checks("runner")
       .nested(obstacle.validate())
@@ -24,19 +17,6 @@ Status MissionRunnerConfig::validate() const {
 
 double MissionRunnerConfig::lost_turn_reach_m(const Footprint& fp) const {
   return lost_turn_radps > 0.0 ? fp.turn_sweep_m() + lost_turn_clearance_m + 0.1 : 0.0;
-}
-
-bool ObstacleGuard::ahead() const {
-  if (!known_) {
-    const ObstacleField& f = obstacles_.get();
-    ahead_ = f.valid() && f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, 5.0) < cfg_.stop_m;
-    known_ = true;
-  }
-  return ahead_;
-}
-
-bool MissionContext::obstacle_ahead() const {
-  return guard != nullptr && guard->ahead();
 }
 
 MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count,
@@ -71,7 +51,9 @@ MotionRequest MissionRunner::held() {
   // blind sector too (what it saw there is remembered).
   const bool can_turn =
       f.clearance_all_round_m(pose) >= f.footprint().turn_sweep_m() + lost_turn_clearance_m_;
-  const double free_m = f.ahead_m(pose, guard_.config().corridor_margin_m, 50.0);
+  // The corridor ahead only where it can lead somewhere: a leg.
+  const double free_m =
+      explorer_.drives() ? f.ahead_m(pose, guard_.config().corridor_margin_m, 50.0) : 0.0;
   m.twist = explorer_.step(pose, can_turn, free_m);
   return m;
 }

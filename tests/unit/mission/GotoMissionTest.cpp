@@ -386,6 +386,19 @@ TEST(GotoMissionTest, AnEscapeBesideASeenRowRunsToItsEnd) {
   EXPECT_GE(c[6].value, 1U);
 }
 
+// Runs the mission to its end (at most 60 s) and returns the least distance of the body's outline
+// from the wall [x0, x1] x [y0, y1] on the way (body_to_wall) [m].
+double run_keeping_clear_of(Rig& r, double x0, double y0, double x1, double y1) {
+  double clearance = 1e9;
+  for (int i = 0; i < 6000 && r.mission->current() != GotoMission::State::Done &&
+                  r.mission->current() != GotoMission::State::Failed;
+       ++i) {
+    r.run(0.01);
+    clearance = std::fmin(clearance, body_to_wall(r.pose, x0, y0, x1, y1));
+  }
+  return clearance;
+}
+
 // A wall along the body's right side, 0.1 m from it, and the goal behind: turning round where it
 // stands would swing the corners into the wall (a 0.5 m square sweeps a circle of 0.354 m), and
 // the front-edge check sees nothing ahead. goto_dead_end's seed 8 touched a wall's end so. With
@@ -404,13 +417,7 @@ TEST(GotoMissionTest, ATurnThatWouldSwingACornerIntoAWallMovesClearFirst) {
     // Lethal cells from x 0.5 to 2.5 and y -0.45 to -0.35 (their faces).
     r.costmap.wall(0.52, -0.43, 2.48, -0.37, true);
     r.start();
-    double clearance = 1e9;
-    for (int i = 0; i < 6000 && r.mission->current() != GotoMission::State::Done &&
-                    r.mission->current() != GotoMission::State::Failed;
-         ++i) {
-      r.run(0.01);
-      clearance = std::fmin(clearance, body_to_wall(r.pose, 0.5, -0.45, 2.5, -0.35));
-    }
+    const double clearance = run_keeping_clear_of(r, 0.5, -0.45, 2.5, -0.35);
     MissionCounters c;
     r.mission->counters(c);
     EXPECT_STREQ(c[6].name, "corner_escapes");
@@ -471,13 +478,7 @@ TEST(GotoMissionTest, TheLidarsMemoryOfItsBlindSectorHoldsATurnTheCostmapForgot)
     ObstacleGuard guard(ObstacleStopConfig{}, field, r.odom);
     if (memory) r.ctx.guard = &guard;
     r.start();
-    double clearance = 1e9;
-    for (int i = 0; i < 6000 && r.mission->current() != GotoMission::State::Done &&
-                    r.mission->current() != GotoMission::State::Failed;
-         ++i) {
-      r.run(0.01);
-      clearance = std::fmin(clearance, body_to_wall(r.pose, -1.5, -0.45, 2.5, -0.35));
-    }
+    const double clearance = run_keeping_clear_of(r, -1.5, -0.45, 2.5, -0.35);
     MissionCounters c;
     r.mission->counters(c);
     EXPECT_EQ(r.mission->current(), memory ? GotoMission::State::Done : r.mission->current());
