@@ -494,32 +494,33 @@ bool Boustrophedon::route_impl(const CellVisit& v, void* out, PushFn push) const
     }
     return true;
   }
-  const double radius = cfg_.turn_radius_m > 0.0 ? cfg_.turn_radius_m : 0.5 * cfg_.lane_spacing_m;
   for (std::size_t m = 0; m < n; ++m) {
     const CoverLane& a = lane_of(v, m);
     if (m + 1 == n) return push(out, Vec2(a.x, up ? a.y1_m : a.y0_m));
     const CoverLane& b = lane_of(v, m + 1);
     const CoverLane& left = a.column < b.column ? a : b;  // holds the join's bounds
-    const double top = left.top_join_m, bottom = left.bottom_join_m;
-    const double dx = b.x - a.x, sgn = dx > 0.0 ? 1.0 : -1.0;
-    const double r = std::min({radius, 0.5 * std::fabs(dx), 0.5 * (top - bottom)});
-    const double vy = up ? 1.0 : -1.0;
-    if (r < 0.25 * res_) {  // no room to turn: straight across at the end
-      const double y = up ? top : bottom;
-      if (!push(out, Vec2(a.x, y)) || !push(out, Vec2(b.x, y))) return false;
-    } else {
-      const double yc = up ? top - r : bottom + r;
-      const bool straight = std::fabs(dx) - 2.0 * r > 0.25 * res_;
-      if (!push_arc(out, push, Vec2(a.x + sgn * r, yc), r, sgn > 0 ? kPi : 0.0, 0.5 * kPi, vy,
-                    false) ||
-          !push_arc(out, push, Vec2(b.x - sgn * r, yc), r, 0.5 * kPi, sgn > 0 ? 0.0 : kPi, vy,
-                    !straight)) {
-        return false;
-      }
-    }
+    if (!u_turn_impl(a.x, b.x, up, left.top_join_m, left.bottom_join_m, out, push)) return false;
     up = !up;
   }
   return true;
+}
+
+bool Boustrophedon::u_turn_impl(double ax, double bx, bool up, double top, double bottom, void* out,
+                                PushFn push) const {
+  const double radius = cfg_.turn_radius_m > 0.0 ? cfg_.turn_radius_m : 0.5 * cfg_.lane_spacing_m;
+  const double dx = bx - ax, sgn = dx > 0.0 ? 1.0 : -1.0;
+  const double r = std::min({radius, 0.5 * std::fabs(dx), 0.5 * (top - bottom)});
+  const double vy = up ? 1.0 : -1.0;
+  if (r < 0.25 * res_) {  // no room to turn: straight across at the end
+    const double y = up ? top : bottom;
+    return push(out, Vec2(ax, y)) && push(out, Vec2(bx, y));
+  }
+  const double yc = up ? top - r : bottom + r;
+  const bool straight = std::fabs(dx) - 2.0 * r > 0.25 * res_;
+  return push_arc(out, push, Vec2(ax + sgn * r, yc), r, sgn > 0 ? kPi : 0.0, 0.5 * kPi, vy,
+                  false) &&
+         push_arc(out, push, Vec2(bx - sgn * r, yc), r, 0.5 * kPi, sgn > 0 ? 0.0 : kPi, vy,
+                  !straight);
 }
 
 }  // namespace carril::fw

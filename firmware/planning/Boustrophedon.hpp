@@ -126,6 +126,19 @@ class Boustrophedon {
     out.clear();
     return route_impl(v, &out, &push_point<N>);
   }
+  // The same, appended to what `out` holds.
+  template <std::size_t N>
+  bool append_route(const CellVisit& v, StaticVector<Vec2, N>& out) const {
+    return route_impl(v, &out, &push_point<N>);
+  }
+  // Appends a U-turn laid as the lanes' own: from a lane at x = ax [m] driven up (or down) to
+  // one at bx driven the other way, within rows top and bottom [m]: the points from where it
+  // leaves the first lane to where it meets the second.
+  template <std::size_t N>
+  bool u_turn(double ax, double bx, bool up, double top, double bottom,
+              StaticVector<Vec2, N>& out) const {
+    return u_turn_impl(ax, bx, up, top, bottom, &out, &push_point<N>);
+  }
 
  private:
   using PushFn = bool (*)(void* out, const Vec2& p);
@@ -134,6 +147,8 @@ class Boustrophedon {
     return static_cast<StaticVector<Vec2, N>*>(out)->try_push_back(p);
   }
   bool route_impl(const CellVisit& v, void* out, PushFn push) const;
+  bool u_turn_impl(double ax, double bx, bool up, double top, double bottom, void* out,
+                   PushFn push) const;
   bool push_arc(void* out, PushFn push, const Vec2& c, double r, double a0, double a1, double vy,
                 bool skip_first) const;
   Status lay_lanes(std::size_t k);

@@ -314,6 +314,74 @@ TEST(BoustrophedonTest, RoutesStartAndEndAtTheVisitsCornersAndReverse) {
   }
 }
 
+// The U-turn the coverage mission lays to join a cell onto the one before it is the route's own:
+// a route rebuilt from its entry point, u_turn() between each pair of lanes (within their join
+// bounds) and its last lane's end equals route() to the bit, and append_route() adds a route
+// after what a buffer holds. Between lanes farther apart than two radii the turn has a straight
+// across; closer than a quarter cell, it is straight across at the end.
+TEST(BoustrophedonTest, AUTurnLaidAloneIsTheOneTheRouteLaysBetweenItsLanes) {
+  Boustrophedon b;
+  ASSERT_TRUE(b.init(100, 100, 64, 256).is_ok());
+  Mask m(40, 30);
+  m.fill(12, 0, 14, 9, 0);  // a wall's end from below: lanes of unequal length
+  ASSERT_TRUE(decompose(b, m, config(0.0)).is_ok());
+  StaticVector<Vec2, 1024> r, rebuilt, appended;
+  int checked = 0;
+  for (std::size_t c = 0; c < b.cell_count(); ++c) {
+    const CoverCell& cell = b.cell(c);
+    if (cell.single_pass || cell.lanes < 2) continue;
+    for (std::uint8_t e = 0; e < 4; ++e) {
+      const CellVisit v{std::uint16_t(c), e};
+      ASSERT_TRUE(b.route(v, r));
+      rebuilt.clear();
+      rebuilt.push_back(b.entry_point(v));
+      bool up = (e & 1) == 0;
+      for (std::size_t k = 0; k + 1 < cell.lanes; ++k) {
+        const std::size_t ia = (e & 2) != 0 ? cell.lanes - 1 - k : k;
+        const std::size_t ib = (e & 2) != 0 ? ia - 1 : ia + 1;
+        const CoverLane& la = b.lane(cell.first_lane + ia);
+        const CoverLane& lb = b.lane(cell.first_lane + ib);
+        const CoverLane& left = la.column < lb.column ? la : lb;
+        ASSERT_TRUE(b.u_turn(la.x, lb.x, up, left.top_join_m, left.bottom_join_m, rebuilt));
+        up = !up;
+      }
+      rebuilt.push_back(b.exit_point(v));
+      ASSERT_EQ(rebuilt.size(), r.size()) << "cell " << c << " entry " << int(e);
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        EXPECT_EQ(rebuilt[i].x(), r[i].x());
+        EXPECT_EQ(rebuilt[i].y(), r[i].y());
+      }
+      appended.clear();
+      appended.push_back(Vec2(-1.0, -1.0));
+      ASSERT_TRUE(b.append_route(v, appended));
+      ASSERT_EQ(appended.size(), r.size() + 1);
+      for (std::size_t i = 0; i < r.size(); ++i) EXPECT_EQ(appended[i + 1], r[i]);
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 8);  // two cells of lanes at least, every corner
+  // Farther apart than two radii (0.45 m spacing: r 0.225): two quarter arcs and a straight.
+  StaticVector<Vec2, 64> t;
+  ASSERT_TRUE(b.u_turn(0.5, 1.3, true, 1.0, 0.0, t));
+  EXPECT_LT((t[0] - Vec2(0.5, 1.0 - 0.225)).norm(), 1e-12);
+  EXPECT_LT((t.back() - Vec2(1.3, 1.0 - 0.225)).norm(), 1e-12);
+  double top = -1.0, longest = 0.0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    top = std::max(top, t[i].y());
+    EXPECT_GE(t[i].x(), 0.5 - 1e-12);
+    EXPECT_LE(t[i].x(), 1.3 + 1e-12);
+    if (i > 0) longest = std::max(longest, (t[i] - t[i - 1]).norm());
+  }
+  EXPECT_NEAR(top, 1.0, 1e-12);
+  EXPECT_NEAR(longest, 0.8 - 2 * 0.225, 1e-12);  // the straight across the top
+  // Closer than a quarter cell: straight across at the bottom when driving down.
+  t.clear();
+  ASSERT_TRUE(b.u_turn(0.5, 0.51, false, 1.0, 0.0, t));
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0], Vec2(0.5, 0.0));
+  EXPECT_EQ(t[1], Vec2(0.51, 0.0));
+}
+
 // A strip shorter than the lane spacing across the sweep line: one pass along its middle, not a
 // zigzag of U-turns tighter than its lanes are long; a room with long lanes keeps its U-turns.
 TEST(BoustrophedonTest, AStripShorterThanTheSpacingIsOnePassThroughItsMiddle) {
