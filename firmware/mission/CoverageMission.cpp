@@ -49,11 +49,14 @@ Status CoverageConfig::validate() const {
       .range("transit_edge_lookahead_m", transit_edge_lookahead_m, 0.0, 5.0, "m")
       .range("lane_overlap", lane_overlap, 0.0, 0.9, "")
       .range("turn_radius_m", turn_radius_m, 0.0, 5.0, "m")
+      .range("join_max_gap_m", join_max_gap_m, 0.0, 10.0, "m")
+      .range("join_max_step_m", join_max_step_m, 0.0, 1.0, "m")
       .range("wall_clearance_m", wall_clearance_m, 0.0, 1.0, "m")
       .fail_if(area.size() > 0 && area.size() < 3, "area", "a polygon needs 3 corners or more")
       .range("target_coverage", target_coverage, 0.0, 1.0, "")
       .range("skip_swept_cell", skip_swept_cell, 0.0, 1.0, "")
       .range("max_revisits", double(max_revisits), 0.0, 100000.0, "targets")
+      .range("revisit_min_area_m2", revisit_min_area_m2, 0.0, 100.0, "m^2")
       .range("revisit_spin_rad", revisit_spin_rad, 0.0, 4.0 * kPi, "rad")
       .range("spin_rate_radps", spin_rate_radps, 0.05, 10.0, "rad/s")
       .range("max_time_s", max_time_s, 0.0, 1e6, "s")
@@ -166,6 +169,8 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
   }
   plan_costs_ = std::make_unique<std::uint8_t[]>(n);
   abandoned_ = std::make_unique<std::uint8_t[]>(n);
+  patch_size_ = std::make_unique<std::uint32_t[]>(n);
+  patch_queue_ = std::make_unique<std::uint32_t[]>(n);
   mapped_ = std::make_unique<std::uint8_t[]>(n);
   build_mapped_mask();
   accounting_ = true;
@@ -215,7 +220,7 @@ void CoverageMission::enter(const MissionContext& ctx) {
   planning_ = false;
   tour_pos_ = 0;
   rng_ = cfg_.seed != 0 ? cfg_.seed : 1u;
-  cells_done_ = lanes_ = lanes_blocked_ = revisits_ = bumps_ = replans_ = 0;
+  cells_done_ = lanes_ = lanes_blocked_ = revisits_ = bumps_ = replans_ = joins_ = 0;
   turns_left_ = turns_right_ = stops_in_a_row_ = 0;
   fault_ = Fault::None;
   if (accounting_) {
@@ -259,6 +264,7 @@ void CoverageMission::counters(MissionCounters& out) const {
       {"covered_permille", std::uint32_t(std::lround(1000.0 * coverage_.covered_fraction()))});
   out.push_back(
       {"overlap_permille", std::uint32_t(std::lround(1000.0 * coverage_.overlap_fraction()))});
+  out.push_back({"joins", joins_});
 }
 
 MissionOutput CoverageMission::fail(Fault f) {

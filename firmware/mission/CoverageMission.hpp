@@ -9,14 +9,18 @@
 // and round what the lidar sees). The mission marks its CoverageGrid from the localised pose
 // every tick, so it knows what it really swept: a lane blocked by an obstacle the map does not
 // show is cut short and resumed past it; a cell its neighbours' lanes already swept is skipped;
-// each cell is entered at the corner nearest the robot. After the last cell it goes back for
-// what is left (REVISIT: to the unswept cell nearest by the planner, a half turn and more on the
+// each cell is entered at the corner nearest the robot. Where the tour's next cell begins with a
+// lane across from the end of the cell's last one, at the same end and driven the other way, the
+// sweep turns into it by a U-turn as between its own lanes (a join: no plan, transit or turns on
+// the spot). After the last cell it goes back for what is left (REVISIT: to the unswept cell
+// nearest by the planner of a patch of at least revisit_min_area_m2, a half turn and more on the
 // spot there, each cell tried once) until target_coverage of the cells reachable now is swept
 // (cells an unmapped obstacle seals off do not count) or nothing reachable is left. It does not
 // call the job complete when it is not: covered_permille is what it swept of the whole area.
 //
 //   WAIT --drives ready, costmap built--> PLAN(initial: reachable area, tour direction)
 //   PLAN(next cell) --path--> TRANSIT --at the cell's corner--> SWEEP --end of its lanes--> PLAN
+//   SWEEP --on its last lane, the next cell joined--> SWEEP (the next cell's lanes)
 //   SWEEP --obstacle on the lane ahead--> PLAN(resume past it) --> TRANSIT --> SWEEP
 //   PLAN(next cell) --no cell left--> PLAN(revisit) --> TRANSIT --> SPIN --> PLAN(revisit)
 //   PLAN(revisit) --target coverage reached, or no reachable unswept cell--> DONE
@@ -32,7 +36,7 @@
 // The body is taken as its inscribed circle throughout (the area's erosion, the costmap's
 // inscribed cells, the checks ahead), so a square body's corners may brush a wall in a turn.
 // Counters: cells, lanes (of the cells finished), lanes_blocked, revisits, bumps, replans,
-// covered_permille, overlap_permille (of the reachable coverable cells, CoverageArea).
+// covered_permille, overlap_permille (of the reachable coverable cells, CoverageArea), joins.
 //
 // Both stop after max_time_s (DONE, phase "time_limit"). Every tick's work is bounded: the heavy
 // work (erosion, decomposition, gaps, tour) runs in the constructor; planning spreads the
@@ -90,6 +94,12 @@ struct CoverageConfig {
   double transit_edge_lookahead_m = 0.25;  // [m]
   double lane_overlap = 0.1;               // lanes are tool_width * (1 - lane_overlap) apart [-]
   double turn_radius_m = 0.0;  // U-turn arcs between lanes; 0: half the lane spacing [m]
+  // A cell whose first lane starts this close across from the end of the last lane of the cell
+  // being swept, at the same end and driven the other way, is joined to it by a U-turn as the
+  // lanes' own instead of a transit; 0: never [m]
+  double join_max_gap_m = 1.0;
+  double join_max_step_m =
+      0.1;  // ...with the two lanes' ends at most this far apart along them [m]
   // The lanes and transits keep this much beyond the inscribed radius from the walls and from
   // obstacles the map does not show [m]
   double wall_clearance_m = 0.0;
@@ -98,10 +108,14 @@ struct CoverageConfig {
   double skip_swept_cell = 0.98;     // a cell this much swept already (from its neighbours' lanes)
                                      // is not visited [-]
   std::uint32_t max_revisits = 200;  // REVISIT ends after this many targets [targets]
-  double revisit_spin_rad = 3.3;     // turned on the spot at a revisit target [rad]
-  double spin_rate_radps = 1.0;      // that turn's rate [rad/s]
-  double max_time_s = 1800.0;        // the mission ends (DONE) after this long; 0: never [s]
-  std::uint32_t seed = 1;            // the vacuum's random turns
+  // A revisit goes only for a patch of unswept cells (8-connected) at least this large: a trip of
+  // a plan, a transit and a turn on the spot costs more than a scallop of a few cells by a wall
+  // is worth; 0: any cell [m^2]
+  double revisit_min_area_m2 = 0.05;
+  double revisit_spin_rad = 3.3;  // turned on the spot at a revisit target [rad]
+  double spin_rate_radps = 1.0;   // that turn's rate [rad/s]
+  double max_time_s = 1800.0;     // the mission ends (DONE) after this long; 0: never [s]
+  std::uint32_t seed = 1;         // the vacuum's random turns
   VacuumConfig vacuum;
 
   LaneFollowerConfig sweep;           // on the lanes and their U-turns
@@ -177,6 +191,7 @@ class CoverageMission final : public Mission {
     return route_.begin() + sweep_from_;
   }
   std::uint32_t bumps() const { return bumps_; }
+  std::uint32_t joins() const { return joins_; }  // cells joined onto the one before [cells]
   std::uint32_t turns_left() const { return turns_left_; }
   std::uint32_t turns_right() const { return turns_right_; }
 
@@ -194,6 +209,10 @@ class CoverageMission final : public Mission {
   static constexpr double kOnRouteM = 0.03;
   void start_route_here(const Pose2& pose);
   void finish_cell();
+  // A joined cell's first lane runs at least this far before it turns again (unless it ends) [m].
+  static constexpr double kJoinSettleM = 0.3;
+  bool join_next_cell(const Pose2& pose);
+  bool join_clear(std::size_t from, std::size_t to) const;
   MissionOutput plan_step(const Pose2& pose);
   MissionOutput planned(const Pose2& pose);
   bool pick_next_cell(const Pose2& pose);
@@ -238,10 +257,12 @@ class CoverageMission final : public Mission {
   Boustrophedon bcd_;
   CoverageGrid coverage_;
   WavefrontPlanner planner_;
-  std::unique_ptr<std::uint8_t[]> base_costs_;  // the static area: 0 on centre cells, else lethal
-  std::unique_ptr<std::uint8_t[]> plan_costs_;  // base_costs_ overlaid with the costmap
-  std::unique_ptr<std::uint8_t[]> abandoned_;   // revisit targets already tried
-  std::unique_ptr<std::uint8_t[]> mapped_;      // within mapped_wall_tolerance_m of a wall
+  std::unique_ptr<std::uint8_t[]> base_costs_;    // the static area: 0 on centre cells, else lethal
+  std::unique_ptr<std::uint8_t[]> plan_costs_;    // base_costs_ overlaid with the costmap
+  std::unique_ptr<std::uint8_t[]> abandoned_;     // revisit targets already tried
+  std::unique_ptr<std::uint32_t[]> patch_size_;   // the unswept patch each unswept cell is in
+  std::unique_ptr<std::uint32_t[]> patch_queue_;  // the flood fill's queue [cell indices]
+  std::unique_ptr<std::uint8_t[]> mapped_;        // within mapped_wall_tolerance_m of a wall
 
   State state_ = State::Wait;
   MissionPhase phase_;
@@ -258,6 +279,7 @@ class CoverageMission final : public Mission {
   CellVisit visit_;
   StaticVector<Vec2, kMaxRoute> route_;
   std::size_t sweep_from_ = 0;  // the route from here on is left to sweep
+  bool join_tried_ = false;     // on the route's last lane, the next cell was looked at
   State after_transit_ = State::Sweep;
   StaticVector<GridCell, kMaxPathCells> cells_;
   StaticVector<Vec2, kMaxWaypoints> waypoints_;
@@ -272,7 +294,7 @@ class CoverageMission final : public Mission {
   double turn_s_ = 0.0, turn_dir_ = 1.0;
 
   std::uint32_t cells_done_ = 0, lanes_ = 0, lanes_blocked_ = 0, revisits_ = 0, bumps_ = 0,
-                replans_ = 0, turns_left_ = 0, turns_right_ = 0;
+                replans_ = 0, turns_left_ = 0, turns_right_ = 0, joins_ = 0;
   Fault fault_ = Fault::None;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mapping/UnsweptPatches.hpp"
 #include "firmware/mission/CoverageMission.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
 
@@ -192,8 +193,15 @@ bool CoverageMission::pick_revisit(const Pose2& pose) {
   // Cells whose own anchor is sealed off look for another within the reach, within a budget
   // (cells looked at) that bounds this tick.
   long budget = long(area_.size());
+  const double cell_m2 = map_.resolution() * map_.resolution();
+  const std::uint32_t min_cells =
+      std::uint32_t(std::ceil(cfg_.revisit_min_area_m2 / cell_m2 - 1e-9));
+  if (min_cells > 1) {
+    unswept_patch_sizes(coverable, counts, nx, map_.ny(), patch_size_.get(), patch_queue_.get());
+  }
   for (std::size_t k = 0; k < area_.size(); ++k) {
     if (coverable[k] == 0 || counts[k] != 0) continue;
+    if (min_cells > 1 && patch_size_[k] < min_cells) continue;
     std::int32_t a = area_.anchor(k);
     float c = planner_.cost_to_goal(int(a % nx), int(a / nx));
     if (c >= WavefrontPlanner::kInfinity && budget > 0) {
@@ -279,6 +287,7 @@ void CoverageMission::arrive(const Pose2& pose) {
     return;
   }
   start_route_here(pose);
+  join_tried_ = false;
   sweep_follower_.reset();
   go(State::Sweep, "sweep");
 }
@@ -307,6 +316,98 @@ void CoverageMission::finish_cell() {
   lanes_ += bcd_.cell(visit_.cell).lanes;
   ++cells_done_;
   ++tour_pos_;
+}
+
+// On the last lane of a cell: when the tour's next cell begins with a lane across from this
+// one's end, at the same end and driven the other way (the sweep goes on from one cell into the
+// next, as at a door's jamb or a wall's end that split them), the route turns into it by a U-turn
+// as the lanes' own, instead of ending at the wall for a plan, a transit and two turns on the
+// spot. Only where the turn's centre line stays on cells the centre may stand on and clear of
+// what the costmap shows, and is still ahead of the robot. The finished cell is counted done and
+// the next one becomes the visit.
+bool CoverageMission::join_next_cell(const Pose2& pose) {
+  const std::size_t n = route_.size();
+  if (cfg_.join_max_gap_m <= 0.0 || n < sweep_from_ + 2 || bcd_.cell(visit_.cell).single_pass ||
+      tour_pos_ + 1 >= bcd_.tour_size()) {
+    return false;
+  }
+  const Vec2 a = route_[n - 2], b = route_[n - 1];
+  if (a.x() != b.x() || a.y() == b.y()) return false;  // the last lane, along the sweep line
+  const bool up = b.y() > a.y();
+  const CellVisit next = tour_visit(tour_pos_ + 1);
+  const CoverCell& c = bcd_.cell(next.cell);
+  if (c.single_pass || swept_fraction(next.cell) >= cfg_.skip_swept_cell) return false;
+  const double res = map_.resolution();
+  bool found = false;
+  CellVisit o{};
+  Vec2 e(0.0, 0.0);
+  const std::uint8_t entries = c.lanes > 1 ? 4 : 2;
+  for (std::uint8_t k = 0; k < entries; ++k) {
+    if (((k & 1) != 0) != up) continue;  // starts at this lane's end, driven the other way
+    const CellVisit v{next.cell, k};
+    const Vec2 p = bcd_.entry_point(v);
+    const double dx = std::fabs(p.x() - b.x());
+    if (dx < res || dx > cfg_.join_max_gap_m || std::fabs(p.y() - b.y()) > cfg_.join_max_step_m) {
+      continue;
+    }
+    if (!found || dx < std::fabs(e.x() - b.x())) {
+      found = true;
+      o = v;
+      e = p;
+    }
+  }
+  if (!found) return false;
+  const double end_y = up ? std::min(b.y(), e.y()) : std::max(b.y(), e.y());
+  const double vy = up ? 1.0 : -1.0;
+  route_.pop_back();
+  const std::size_t turn_from = route_.size();
+  // The turn reaches end_y; this lane's start bounds its radius (the next one's is checked below).
+  const bool laid = bcd_.u_turn(a.x(), e.x(), up, up ? end_y : a.y(), up ? a.y() : end_y, route_) &&
+                    route_.size() > turn_from;
+  const std::size_t next_from = route_.size();
+  bool ok = laid && bcd_.append_route(o, route_) && route_.size() >= next_from + 2;
+  if (ok) {
+    // Where the turn leaves this lane is ahead of the robot (by a braking distance's margin),
+    // and its second lane runs on past where the turn meets it.
+    const double leave = route_[turn_from].y(), meet = route_[next_from - 1].y();
+    // A lane that turns again sooner than kJoinSettleM past the meeting point would enter that
+    // turn still settling from this one, wide of it.
+    const double run = vy * (meet - route_[next_from + 1].y());
+    ok = vy * (leave - pose.y) > 0.05 && vy * (leave - a.y()) >= 0.0 && run > 0.0 &&
+         (run >= kJoinSettleM || route_.size() == next_from + 2);
+  }
+  if (ok) {
+    // The next route's entry point lies on its first lane at or beyond where the turn meets it.
+    for (std::size_t k = next_from; k + 1 < route_.size(); ++k) route_[k] = route_[k + 1];
+    route_.pop_back();
+    ok = join_clear(turn_from, next_from - 1);
+  }
+  if (!ok) {
+    route_.truncate(turn_from);
+    route_.push_back(b);
+    return false;
+  }
+  finish_cell();
+  visit_ = o;
+  ++joins_;
+  return true;
+}
+
+// Whether the route's centre line from point `from` to point `to` stays on cells where the
+// robot's centre may stand, clear of obstacles the map does not show.
+bool CoverageMission::join_clear(std::size_t from, std::size_t to) const {
+  const double step = 0.5 * map_.resolution();
+  for (std::size_t i = from; i < to; ++i) {
+    const Vec2 a = route_[i], b = route_[i + 1];
+    const int m = std::max(1, int(std::ceil((b - a).norm() / step)));
+    for (int k = 0; k <= m; ++k) {
+      const Vec2 p = a + (b - a) * (double(k) / m);
+      int ci = 0, cj = 0;
+      if (!map_.cell_of(p.x(), p.y(), ci, cj)) return false;
+      if (base_costs_[cell_index(ci, cj)] == cost::kLethal || blocked_at(p)) return false;
+    }
+  }
+  return true;
 }
 
 MissionOutput CoverageMission::transit(const Pose2& pose) {
@@ -388,6 +489,11 @@ MissionOutput CoverageMission::reverse(const Pose2& pose) {
 }
 
 MissionOutput CoverageMission::sweep(const Pose2& pose) {
+  // On the route's last lane: join the next cell to it where a U-turn leads into it (once per
+  // last lane; a joined cell's own last lane is looked at in turn).
+  if (!join_tried_ && sweep_from_ + sweep_follower_.progress() + 2 >= route_.size()) {
+    join_tried_ = !join_next_cell(pose);
+  }
   const Vec2* path = route_.begin() + sweep_from_;
   const std::size_t n = route_.size() - sweep_from_;
   MissionOutput out;

@@ -52,7 +52,7 @@ struct MissionCounter {
   const char* name = "";
   std::uint32_t value = 0;
 };
-using MissionCounters = StaticVector<MissionCounter, 8>;
+using MissionCounters = StaticVector<MissionCounter, 12>;
 
 struct MissionOutput {
   MotionRequest motion;
