@@ -12,6 +12,11 @@ constexpr double kBackExtension = 1.5;  // tape assumed straight behind the firs
 // spacings) and they turn the path by more than kTailMaxTurnRad together.
 constexpr double kTailMaxStep = 2.0 * kMinSpacing;  // [m]
 constexpr double kTailMaxTurnRad = 2.356;           // 135 deg
+// kStaleFrames frames in a row of at least kMinFramePoints points, none of which follows
+// memory, drop up to kMaxStaleTail of memory's last points [frames, points, points].
+constexpr int kStaleFrames = 15;
+constexpr std::size_t kMinFramePoints = 4;
+constexpr int kMaxStaleTail = 2;
 
 }  // namespace
 
@@ -30,16 +35,38 @@ void TapeMap::add(const Pose2& odom, const Vec2* pts_robot, std::size_t n) {
   const std::size_t skip = kept.size() > room ? kept.size() - room : 0;
   pts_.clear();
   for (std::size_t i = skip; i < kept.size(); ++i) pts_.push_back(kept[i]);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 w = frame.to_world(pts_robot[i]);
-    if (!pts_.empty() && (w - pts_.back()).norm() < kMinSpacing) continue;
-    // Tape does not double back within a few centimetres: a point that would turn the path by
-    // more than about 100 deg is a centroid of a band that straddles both legs of a corner.
-    if (pts_.size() >= 2) {
-      const Vec2 a = pts_.back() - pts_[pts_.size() - 2], b = w - pts_.back();
-      if (a.dot(b) < -0.2 * a.norm() * b.norm()) continue;
+  const auto doubles_back = [&](const Vec2& w) {
+    const Vec2 a = pts_.back() - pts_[pts_.size() - 2], b = w - pts_.back();
+    return a.dot(b) < -0.2 * a.norm() * b.norm();
+  };
+  const auto append_frame = [&]() {
+    std::size_t added = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 w = frame.to_world(pts_robot[i]);
+      if (!pts_.empty() && (w - pts_.back()).norm() < kMinSpacing) continue;
+      // Tape does not double back within a few centimetres: a point that would turn the path by
+      // more than about 100 deg is a centroid of a band that straddles both legs of a corner.
+      if (pts_.size() >= 2 && doubles_back(w)) continue;
+      pts_.push_back(w);
+      ++added;
     }
-    pts_.push_back(w);
+    return added;
+  };
+  // Frames of several points none of which could follow memory, kStaleFrames in a row: memory's
+  // end is what is stale (centroids from frames that saw both legs of a corner, pointing on along
+  // the old leg). Kept, it would turn every later frame away, and the tape ahead would never be
+  // remembered (the robot stood on a corner's new leg, seeing it, until its time ran out). Up to
+  // kMaxStaleTail of memory's last points are dropped and the frame added again. (A few such
+  // frames are usual at a corner, until the robot has passed memory's end.)
+  const bool none = append_frame() == 0 && n >= kMinFramePoints;
+  stale_frames_ = none ? stale_frames_ + 1 : 0;
+  if (stale_frames_ >= kStaleFrames) {
+    stale_frames_ = 0;
+    for (int k = 0; k < kMaxStaleTail && pts_.size() >= 3; ++k) {
+      pts_.pop_back();
+      if (!doubles_back(frame.to_world(pts_robot[0]))) break;
+    }
+    append_frame();
   }
   // A ragged tail: the frame's last two points, each a short step, turning the path back on
   // itself (together by more than 135 deg). A strip of tape lying across the image (a corner's

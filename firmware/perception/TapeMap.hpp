@@ -27,7 +27,10 @@ class TapeMap {
  public:
   static constexpr std::size_t kMaxPoints = 160;
 
-  void clear() { pts_.clear(); }
+  void clear() {
+    pts_.clear();
+    stale_frames_ = 0;
+  }
   bool empty() const { return pts_.size() < 2; }
   std::size_t size() const { return pts_.size(); }
 
@@ -61,6 +64,7 @@ class TapeMap {
                   TrackState& t) const;
   double start_curvature() const;
   StaticVector<Vec2, kMaxPoints> pts_;
+  int stale_frames_ = 0;  // frames in a row none of whose points could follow memory
 };
 
 }  // namespace carril::fw

@@ -179,6 +179,43 @@ TEST(TapeMapTest, ARaggedTailOfShortSharpStepsIsDropped) {
   EXPECT_NEAR(once.points()[once.size() - 1].y(), 0.15, 1e-9);
 }
 
+// corners seed 37: past a corner, memory ended with two centroids from frames that saw both legs,
+// pointing on along the old leg. Every point of every later frame (the new leg, seen well) turned
+// the path back by more than 100 deg from them and was dropped: 0.07 m of tape was left ahead,
+// and the robot stood on the new leg, seeing it, until the time ran out. Now 15 frames in a row
+// of which no point follows memory drop such a stale end of it (two points at most); fewer are
+// usual at a corner and change nothing.
+TEST(TapeMapTest, FramesThatCannotFollowMemoryDropItsStaleEnd) {
+  TapeMap m;
+  std::vector<Vec2> seen;
+  for (int i = 0; i <= 4; ++i) seen.emplace_back(0.7 + 0.07 * i, 0.2);  // the old leg
+  seen.emplace_back(1.01, 0.0);   // centroids straddling the corner,
+  seen.emplace_back(1.07, 0.02);  // the last pointing on east
+  add(m, Pose2{}, seen);
+  ASSERT_EQ(m.size(), 7U);
+  // On the new leg (south along x = 1.07), turned 0.27 rad short of it.
+  const Pose2 o{1.01, 0.0, -kPi / 2 + 0.27};
+  std::vector<Vec2> leg;
+  for (double d = 0.7; d <= 1.8 + 1e-9; d += 0.08) leg.push_back(to_robot(o, Vec2(1.07, -d)));
+  for (int f = 1; f < 15; ++f) {
+    add(m, o, leg);
+    ASSERT_EQ(m.size(), 7U) << "frame " << f;  // memory held: its end still the corner's
+    EXPECT_EQ(m.points()[6], Vec2(1.07, 0.02));
+  }
+  add(m, o, leg);  // the 15th
+  EXPECT_LT((m.points()[m.size() - 1] - to_world(o, leg.back())).norm(), 1e-9);
+  for (const Vec2& p : m.points()) EXPECT_FALSE(p.x() > 1.06 && p.y() > -0.5) << p.transpose();
+  const TrackState t = m.track(o, kLookahead, kPreview);
+  ASSERT_TRUE(t.valid);
+  EXPECT_GT(t.remaining_m, 1.5);
+  // A frame that agrees with memory's end keeps it.
+  TapeMap straight;
+  add(straight, Pose2{}, view([](double s) { return Vec2(s, 0.0); }, 0.1));
+  const std::size_t before = straight.size();
+  add(straight, Pose2{1.5, 0.0, 0.0}, view([](double s) { return Vec2(s, 0.0); }, 0.1));
+  EXPECT_EQ(straight.size(), 2 * before);
+}
+
 TEST(TapeMapTest, CapacityIsRespected) {
   TapeMap m;
   Pose2 o;
