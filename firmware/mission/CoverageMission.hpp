@@ -98,8 +98,8 @@ struct CoverageConfig {
   // being swept, at the same end and driven the other way, is joined to it by a U-turn as the
   // lanes' own instead of a transit; 0: never [m]
   double join_max_gap_m = 1.0;
-  double join_max_step_m =
-      0.1;  // ...with the two lanes' ends at most this far apart along them [m]
+  // ...with the two lanes' ends at most this far apart along them [m]
+  double join_max_step_m = 0.1;
   // The lanes and transits keep this much beyond the inscribed radius from the walls and from
   // obstacles the map does not show [m]
   double wall_clearance_m = 0.0;
