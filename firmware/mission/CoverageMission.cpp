@@ -169,12 +169,13 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
   }
   plan_costs_ = std::make_unique<std::uint8_t[]>(n);
   abandoned_ = std::make_unique<std::uint8_t[]>(n);
-  patch_size_ = std::make_unique<std::uint32_t[]>(n);
-  patch_queue_ = std::make_unique<std::uint32_t[]>(n);
   mapped_ = std::make_unique<std::uint8_t[]>(n);
   build_mapped_mask();
   accounting_ = true;
   if (!systematic) return;
+  // The revisits' patch measure (systematic only).
+  patch_size_ = std::make_unique<std::uint32_t[]>(n);
+  patch_queue_ = std::make_unique<std::uint32_t[]>(n);
   BoustrophedonConfig bc;
   bc.lane_spacing_m = cfg.tool_width_m * (1.0 - cfg.lane_overlap);
   bc.turn_radius_m = cfg.turn_radius_m;

@@ -353,16 +353,17 @@ TEST(CoverageMissionTest, ANewCellsSweepStartsWhereTheRobotStands) {
   EXPECT_EQ(r.collisions, 0);
 }
 
-// A wall's end splits the left room into cells whose lanes meet across the cells' border at the
-// same end: the sweep turns from the last lane of one into the first of the next by a U-turn, as
-// between its own lanes, instead of a plan, a transit and two turns on the spot; faster, as
-// covered, and clear of the walls.
+// A step in the left room's top wall splits it into cells whose lanes meet across the cells'
+// border at the bottom: the sweep turns from the last lane of one into the first of the next by a
+// U-turn, as between its own lanes, instead of a plan, a transit and two turns on the spot;
+// faster, as covered, and clear of the walls.
 TEST(CoverageMissionTest, ACellBesideTheLastLaneIsJoinedByAUTurn) {
-  const std::vector<Box> stubs = {Box{1.5, 3.0, 3.0, 3.6}};  // the left room's far end lower
-  double time_s[2] = {0.0, 0.0}, covered[2] = {0.0, 0.0};    // the tour's time [s]
+  // The top wall 0.5 m lower from x = 1.5 m to the wall between the rooms.
+  const std::vector<Box> top_step = {Box{1.5, 3.0, 3.0, 3.6}};
+  double time_s[2] = {0.0, 0.0}, covered[2] = {0.0, 0.0};  // the tour's time [s]
   std::uint32_t joins[2] = {0, 0};
   for (int with = 0; with < 2; ++with) {
-    Rig rig(CoverageMode::Systematic, {}, stubs);
+    Rig rig(CoverageMode::Systematic, {}, top_step);
     rig.cfg.join_max_gap_m = with != 0 ? 1.0 : 0.0;
     rig.start();
     ASSERT_TRUE(rig.mission->init_status().is_ok()) << rig.mission->init_status().message();
