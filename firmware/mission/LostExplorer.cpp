@@ -11,6 +11,9 @@ constexpr double kHeadingGain = 1.5;  // heading hold on a leg [1/s]
 // A leg does not go back the way the last one came (within this of its reverse) while another
 // heading has room: what lies there has been seen [rad].
 constexpr double kBackRad = kPi / 3.0;
+// Backing along a leg: it stops this close to the leg's start, or to what is behind [m].
+constexpr double kLegStartM = 0.02;
+constexpr double kBehindStopM = 0.15;
 }  // namespace
 
 Status LostExploreConfig::validate() const {
@@ -42,20 +45,37 @@ void LostExplorer::reset() {
   start_turn();
 }
 
+Twist LostExplorer::back_along_leg(const Pose2& odom) const {
+  Twist t;
+  t.vx = -cfg_.speed_mps;
+  t.wz = std::clamp(kHeadingGain * wrap_angle(last_leg_yaw_ - odom.yaw), -turn_radps_, turn_radps_);
+  return t;
+}
+
 void LostExplorer::start_turn() {
   phase_ = Phase::Turn;
+  backing_ = false;
   turned_rad_ = 0.0;
   ahead_ = Best{};
   any_ = Best{};
 }
 
-Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m) {
+Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double behind_m) {
   const double dyaw = have_yaw_ ? std::fabs(wrap_angle(odom.yaw - last_yaw_)) : 0.0;
   last_yaw_ = odom.yaw;
   have_yaw_ = true;
   Twist t;
   switch (phase_) {
     case Phase::Turn: {
+      if (backing_) {
+        // Backed all the way to where the leg began, where it turned all round before, unless
+        // something is now behind it.
+        const double left = std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
+        if (left > kLegStartM && behind_m >= kBehindStopM) return back_along_leg(odom);
+        backing_ = false;
+        // Out of the dead end: the next leg does not go back into it.
+        last_leg_yaw_ = wrap_angle(last_leg_yaw_ + kPi);
+      }
       turned_rad_ += dyaw;
       const bool back =
           have_leg_ && std::fabs(wrap_angle(odom.yaw - last_leg_yaw_ - kPi)) < kBackRad;
@@ -70,10 +90,19 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m) {
         if (b.free_m >= cfg_.min_free_m) {
           leg_yaw_ = b.yaw;
           phase_ = Phase::Face;
-          return step(odom, can_turn, free_m);
+          return step(odom, can_turn, free_m, behind_m);
         }
       }
-      if (can_turn) t.wz = turn_radps_;
+      if (can_turn) {
+        t.wz = turn_radps_;
+      } else if (have_leg_ && cfg_.speed_mps > 0.0 && behind_m >= kBehindStopM &&
+                 std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y()) > kLegStartM) {
+        // The last leg ended where there is no room to turn: standing still there it would wait
+        // for ever.
+        backing_ = true;
+        ++backs_;
+        return back_along_leg(odom);
+      }
       return t;
     }
     case Phase::Face: {

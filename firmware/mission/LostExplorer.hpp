@@ -4,8 +4,11 @@
 // one of a row of alike aisles, every aisle looks the same), and turning there shows nothing new
 // however long it goes on: so once a whole turn has not found it, it drives a short leg toward
 // where it saw the longest free corridor during that turn, slowly and only while the corridor
-// stays clear, and looks round again from there. Pure logic: the mission runner hands it the
-// odometry pose and what the obstacle field says, and applies the room-to-turn check itself.
+// stays clear, and looks round again from there. A leg that ends where there is no room to turn
+// is backed along to its start (it was just driven, so it is free, and the robot turned all round
+// there) while the way behind stays clear: standing still, it would wait for ever. Pure logic: the
+// mission runner hands it the odometry pose and what the obstacle field says, and applies the
+// room-to-turn check itself.
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
@@ -34,17 +37,21 @@ class LostExplorer {
   // Found again: the next loss starts with a whole turn from where it then stands.
   void reset();
   // The motion for this tick. `odom`: the odometry pose (not the lost map pose); `can_turn`: room
-  // to turn in place all round; `free_m`: the free corridor ahead of the front bumper [m].
-  Twist step(const Pose2& odom, bool can_turn, double free_m);
+  // to turn in place all round; `free_m`: the free corridor ahead of the front bumper [m];
+  // `behind_m`: the same behind the rear bumper (0: unknown, it never backs) [m].
+  Twist step(const Pose2& odom, bool can_turn, double free_m, double behind_m = 0.0);
 
   Phase phase() const { return phase_; }
-  std::uint32_t legs() const { return legs_; }  // legs started since construction
+  std::uint32_t legs() const { return legs_; }    // legs started since construction
+  std::uint32_t backs() const { return backs_; }  // legs backed along for room to turn
   // Whether it drives legs (speed_mps > 0); without legs, what step() asks for does not depend
   // on free_m.
   bool drives() const { return cfg_.speed_mps > 0.0; }
 
  private:
   void start_turn();
+  // Backing toward the last leg's start, holding its heading.
+  Twist back_along_leg(const Pose2& odom) const;
 
   // The longest corridor seen in a look-round, and the middle of the first run of headings that
   // saw it (a heading at the edge of an opening may no longer fit through once faced).
@@ -68,7 +75,8 @@ class LostExplorer {
   bool have_leg_ = false;      // a leg was driven since the last reset
   double last_leg_yaw_ = 0.0;  // that leg's heading [rad]
   Vec2 leg_start_{};           // where the current leg began (odometry frame) [m]
-  std::uint32_t legs_ = 0;
+  bool backing_ = false;       // backing along the last leg (no room to turn where it ended)
+  std::uint32_t legs_ = 0, backs_ = 0;
 };
 
 }  // namespace carril::fw

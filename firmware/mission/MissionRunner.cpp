@@ -51,10 +51,12 @@ MotionRequest MissionRunner::held() {
   // blind sector too (what it saw there is remembered).
   const bool can_turn =
       f.clearance_all_round_m(pose) >= f.footprint().turn_sweep_m() + lost_turn_clearance_m_;
-  // The corridor ahead only where it can lead somewhere: a leg.
-  const double free_m =
-      explorer_.drives() ? f.ahead_m(pose, guard_.config().corridor_margin_m, 50.0) : 0.0;
-  m.twist = explorer_.step(pose, can_turn, free_m);
+  // The corridors ahead and behind only where they can lead somewhere: a leg, or backing out of
+  // one that ended with no room to turn.
+  const double margin = guard_.config().corridor_margin_m;
+  const double free_m = explorer_.drives() ? f.ahead_m(pose, margin, 50.0) : 0.0;
+  const double behind_m = explorer_.drives() ? f.behind_m(pose, margin, 50.0) : 0.0;
+  m.twist = explorer_.step(pose, can_turn, free_m, behind_m);
   return m;
 }
 
@@ -79,6 +81,7 @@ void MissionRunner::run() {
     }
     const MotionRequest m = held();
     tel_.lost_legs = explorer_.legs();
+    tel_.lost_backs = explorer_.backs();
     if (m.twist.vx != 0.0) {
       ++tel_.lost_drive_ticks;
     } else if (m.twist.wz != 0.0) {

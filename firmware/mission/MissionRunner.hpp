@@ -48,6 +48,7 @@ struct MissionRunnerTelemetry {
   std::uint64_t lost_turn_ticks = 0;    // of those, ticks turning in place to look round
   std::uint64_t lost_drive_ticks = 0;   // of those, ticks driving a leg toward open space
   std::uint32_t lost_legs = 0;          // legs started toward open space (LostExplorer)
+  std::uint32_t lost_backs = 0;         // legs backed along for room to turn (LostExplorer)
   std::uint32_t relocalisations = 0;    // pose jumps passed on to the mission
   bool stopped = false;                 // the mission was stopped by a fault (safe stop)
 };

@@ -41,6 +41,22 @@ double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) 
   return best;
 }
 
+double ObstacleField::behind_m(const Pose2& odom, double margin_m, double max_m) const {
+  if (memory_full_) return 0.0;
+  double best = max_m;
+  const double half_w = fp_.half_width_m + margin_m;
+  const PoseFrame frame(odom);
+  const auto see = [&](const Vec2& w) {
+    const Vec2 p = frame.to_robot(w);
+    if (p.x() < -fp_.half_length_m && std::fabs(p.y()) <= half_w) {
+      best = std::fmin(best, -p.x() - fp_.half_length_m);
+    }
+  };
+  for (const Vec2& w : pts_) see(w);
+  for (const Vec2& w : memory_) see(w);
+  return best;
+}
+
 double ObstacleField::from_body_m(const Vec2& p) const {
   const double dx = std::fmax(std::fabs(p.x()) - fp_.half_length_m, 0.0);
   const double dy = std::fmax(std::fabs(p.y()) - fp_.half_width_m, 0.0);

@@ -43,6 +43,9 @@ class ObstacleField {
   // Free distance ahead of the front bumper inside a corridor as wide as the robot plus
   // `margin_m` each side, up to `max_m` (returns max_m when clear) [m].
   double ahead_m(const Pose2& odom, double margin_m, double max_m) const;
+  // The same behind the rear bumper, over this scan's points and the remembered ones (a 180 deg
+  // lidar sees nothing behind); 0 when the memory overflowed [m].
+  double behind_m(const Pose2& odom, double margin_m, double max_m) const;
   // Smallest distance from any point to the footprint rectangle at `odom` [m].
   double clearance_m(const Pose2& odom) const;
   // The same over this scan's points and the remembered ones (below): what a turn in place can

@@ -263,7 +263,8 @@ RunSummary SimRun::summary(double wall_time_s) {
                                {"wrong_convergences", long(lt.wrong_convergences)},
                                {"lost_turn_ticks", long(all.runner.lost_turn_ticks)},
                                {"lost_drive_ticks", long(all.runner.lost_drive_ticks)},
-                               {"lost_legs", long(all.runner.lost_legs)}};
+                               {"lost_legs", long(all.runner.lost_legs)},
+                               {"lost_backs", long(all.runner.lost_backs)}};
   }
   r.mission = all.mission;
   for (const fw::MissionCounter& c : all.mission_counters) {

@@ -24,11 +24,13 @@ LostExploreConfig driving() {
 struct World {
   Pose2 pose{1.0, 2.0, 0.5};
   std::function<double(const Pose2&)> free = [](const Pose2&) { return 5.0; };
+  std::function<double(const Pose2&)> behind = [](const Pose2&) { return 5.0; };
   bool can_turn = true;
+  std::function<bool(const Pose2&)> room;  // when set, replaces can_turn
   double turned = 0.0, driven = 0.0;
 
   Twist step(LostExplorer& e) {
-    const Twist t = e.step(pose, can_turn, free(pose));
+    const Twist t = e.step(pose, room ? room(pose) : can_turn, free(pose), behind(pose));
     pose.yaw = wrap_angle(pose.yaw + t.wz * kDt);
     pose.x += t.vx * std::cos(pose.yaw) * kDt;
     pose.y += t.vx * std::sin(pose.yaw) * kDt;
@@ -175,6 +177,72 @@ TEST(LostExplorerTest, FoundAgainTheNextLossStartsWithAWholeTurn) {
   const double turned = w.turned;
   w.until_driving(e, 60.0);
   EXPECT_GT(w.turned - turned, 2.0 * kPi);
+}
+
+// Open only along +x from (1, 2); past x = 1.5 there is no room to turn (a dead end between
+// counters), while at the leg's start there is.
+void dead_end_ahead(World& w) {
+  w.pose = {1.0, 2.0, 0.5};
+  w.free = [](const Pose2& p) {
+    return std::fabs(wrap_angle(p.yaw)) < 0.2 ? std::fmax(0.0, 2.2 - p.x) : 0.4;
+  };
+  w.room = [](const Pose2& p) { return p.x < 1.5; };
+}
+
+TEST(LostExplorerTest, ALegThatEndsWithNoRoomToTurnIsBackedToItsStart) {
+  LostExplorer e{driving(), kTurn};
+  World w;
+  dead_end_ahead(w);
+  w.until_driving(e, 60.0);
+  w.while_in(e, LostExplorer::Phase::Drive);
+  // The leg ended 0.6 m short of x = 2.2, past the room to turn.
+  ASSERT_NEAR(w.pose.x, 1.6, 0.01);
+  EXPECT_EQ(e.backs(), 0U);
+  // Then it backs along the leg, holding its heading, and not just until there is room: to the
+  // leg's start (1, 2), where it turned all round.
+  double min_vx = 0.0;
+  for (int i = 0; i < 1000 && w.pose.x > 1.0 + 0.03; ++i) min_vx = std::fmin(min_vx, w.step(e).vx);
+  EXPECT_EQ(min_vx, -0.2);
+  EXPECT_EQ(e.backs(), 1U);
+  for (int i = 0; i < 100; ++i) w.step(e);
+  EXPECT_NEAR(w.pose.x, 1.0, 0.03);
+  EXPECT_NEAR(w.pose.y, 2.0, 0.03);
+  EXPECT_EQ(e.phase(), LostExplorer::Phase::Turn);
+  // There it looks round again, and with another way open the next leg takes it, not the dead end.
+  w.free = [](const Pose2& p) {
+    if (std::fabs(wrap_angle(p.yaw)) < 0.2) return std::fmax(0.0, 2.2 - p.x);
+    return std::fabs(wrap_angle(p.yaw - 2.0)) < 0.2 ? 1.1 : 0.4;
+  };
+  const double turned = w.turned;
+  w.until_driving(e, 60.0);
+  EXPECT_GT(w.turned - turned, 2.0 * kPi - 0.1);
+  EXPECT_EQ(e.legs(), 2U);
+  EXPECT_NEAR(wrap_angle(w.pose.yaw - 2.0), 0.0, 0.2);
+  EXPECT_EQ(e.backs(), 1U);
+}
+
+TEST(LostExplorerTest, BackingStopsForWhatIsBehindAndNeverStartsWithoutALeg) {
+  LostExplorer e{driving(), kTurn};
+  World w;
+  dead_end_ahead(w);
+  w.until_driving(e, 60.0);
+  w.while_in(e, LostExplorer::Phase::Drive);
+  // Something stands 0.45 m behind where the leg ended (x = 1.6): it backs 0.3 m and stops
+  // 0.15 m short of it.
+  w.behind = [](const Pose2& p) { return p.x - 1.15; };
+  for (int i = 0; i < 1000; ++i) w.step(e);
+  EXPECT_NEAR(w.pose.x, 1.3, 0.01);
+  // Nothing known behind (0): it stands where it is.
+  World still;
+  dead_end_ahead(still);
+  LostExplorer e2{driving(), kTurn};
+  still.until_driving(e2, 60.0);
+  still.while_in(e2, LostExplorer::Phase::Drive);
+  still.behind = [](const Pose2&) { return 0.0; };
+  const double x = still.pose.x;
+  for (int i = 0; i < 300; ++i) EXPECT_EQ(still.step(e2).vx, 0.0);
+  EXPECT_EQ(still.pose.x, x);
+  EXPECT_EQ(e2.backs(), 0U);
 }
 
 TEST(LostExplorerTest, ConfigErrorsNameTheField) {

@@ -145,6 +145,28 @@ TEST(ObstacleFieldTest, WhatLeftTheFieldOfViewIsRememberedForTheTurn) {
   EXPECT_EQ(f.clearance_all_round_m(Pose2{}), 1e9);
 }
 
+// Behind the rear bumper: what the scan shows there and what is remembered of it (a scanner that
+// sees only ahead shows nothing behind).
+TEST(ObstacleFieldTest, BehindCountsTheRememberedReturnsTheScanNoLongerShows) {
+  ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0, 1.5);
+  // Straight ahead, 0.8 m out: 0.55 m from the front bumper; nothing behind yet.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, 0.8F, kInf, kInf, kInf, kInf}), Pose2{});
+  EXPECT_NEAR(f.ahead_m(Pose2{}, 0.1, 5.0), 0.55, 1e-6);
+  EXPECT_EQ(f.behind_m(Pose2{}, 0.1, 5.0), 5.0);
+  // Facing the other way, 0.2 m farther off: the return is behind, seen by no beam now.
+  const Pose2 away{-0.2, 0.0, kPi};
+  f.update(*scan_of({kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf}), away);
+  ASSERT_EQ(f.remembered().size(), 1U);
+  EXPECT_EQ(f.ahead_m(away, 0.1, 5.0), 5.0);
+  EXPECT_NEAR(f.behind_m(away, 0.1, 5.0), 0.75, 1e-6);
+  // Off to the side of the corridor (0.25 + 0.1 m half wide) it does not count.
+  EXPECT_EQ(f.behind_m(Pose2{-0.2, 0.4, kPi}, 0.1, 5.0), 5.0);
+  // And the scan's own points count: facing it again, backed off, it is ahead, not behind.
+  f.update(*scan_of({kInf, kInf, kInf, kInf, 1.0F, kInf, kInf, kInf, kInf}), Pose2{-0.2, 0, 0});
+  EXPECT_EQ(f.behind_m(Pose2{-0.2, 0, 0}, 0.1, 5.0), 5.0);
+  EXPECT_NEAR(f.behind_m(Pose2{-0.2, 0, kPi}, 0.1, 5.0), 0.75, 1e-6);
+}
+
 // Not asked to remember (no lost turn configured): the scan alone, at no cost per scan.
 TEST(ObstacleFieldTest, NotAskedToRememberItKeepsNothing) {
   ObstacleField f({0.25, 0.25}, 0.0, 0.0, 0.0);
