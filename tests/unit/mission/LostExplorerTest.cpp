@@ -180,21 +180,21 @@ TEST(LostExplorerTest, FoundAgainTheNextLossStartsWithAWholeTurn) {
 }
 
 // Open only along +x from (1, 2); past x = 1.5 there is no room to turn (a dead end between
-// counters), while at the leg's start there is.
-void dead_end_ahead(World& w) {
+// counters), while at the leg's start there is. Turns, then drives the leg to its end.
+void into_dead_end(World& w, LostExplorer& e) {
   w.pose = {1.0, 2.0, 0.5};
   w.free = [](const Pose2& p) {
     return std::fabs(wrap_angle(p.yaw)) < 0.2 ? std::fmax(0.0, 2.2 - p.x) : 0.4;
   };
   w.room = [](const Pose2& p) { return p.x < 1.5; };
+  w.until_driving(e, 60.0);
+  w.while_in(e, LostExplorer::Phase::Drive);
 }
 
 TEST(LostExplorerTest, ALegThatEndsWithNoRoomToTurnIsBackedToItsStart) {
   LostExplorer e{driving(), kTurn};
   World w;
-  dead_end_ahead(w);
-  w.until_driving(e, 60.0);
-  w.while_in(e, LostExplorer::Phase::Drive);
+  into_dead_end(w, e);
   // The leg ended 0.6 m short of x = 2.2, past the room to turn.
   ASSERT_NEAR(w.pose.x, 1.6, 0.01);
   EXPECT_EQ(e.backs(), 0U);
@@ -224,9 +224,7 @@ TEST(LostExplorerTest, ALegThatEndsWithNoRoomToTurnIsBackedToItsStart) {
 TEST(LostExplorerTest, BackingStopsForWhatIsBehindAndNeverStartsWithoutALeg) {
   LostExplorer e{driving(), kTurn};
   World w;
-  dead_end_ahead(w);
-  w.until_driving(e, 60.0);
-  w.while_in(e, LostExplorer::Phase::Drive);
+  into_dead_end(w, e);
   // Something stands 0.45 m behind where the leg ended (x = 1.6): it backs 0.3 m and stops
   // 0.15 m short of it.
   w.behind = [](const Pose2& p) { return p.x - 1.15; };
@@ -234,10 +232,8 @@ TEST(LostExplorerTest, BackingStopsForWhatIsBehindAndNeverStartsWithoutALeg) {
   EXPECT_NEAR(w.pose.x, 1.3, 0.01);
   // Nothing known behind (0): it stands where it is.
   World still;
-  dead_end_ahead(still);
   LostExplorer e2{driving(), kTurn};
-  still.until_driving(e2, 60.0);
-  still.while_in(e2, LostExplorer::Phase::Drive);
+  into_dead_end(still, e2);
   still.behind = [](const Pose2&) { return 0.0; };
   const double x = still.pose.x;
   for (int i = 0; i < 300; ++i) EXPECT_EQ(still.step(e2).vx, 0.0);
