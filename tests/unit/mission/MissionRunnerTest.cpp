@@ -394,5 +394,78 @@ TEST(MissionRunnerTest, LostAfterAWholeTurnItDrivesALegAndStopsShortOfAnObstacle
   EXPECT_EQ(runner.telemetry().lost_drive_ticks, driven);
 }
 
+// A room 1.8 m square round the start whose only way on is a corridor along +x, 0.7 m wide, that
+// ends 1.5 m from the start: the leg toward it ends with the side walls 0.1 m from the body, no
+// room to turn. The lidar: three beams, right, ahead and left, cast at these walls.
+hal::LaserScan dead_end_scan(const Pose2& p) {
+  struct Wall {
+    double x0, y0, x1, y1;
+  };
+  static constexpr Wall kWalls[] = {{-0.9, -0.9, -0.9, 0.9},  {-0.9, 0.9, 0.5, 0.9},
+                                    {-0.9, -0.9, 0.5, -0.9},  {0.5, 0.35, 0.5, 0.9},
+                                    {0.5, -0.9, 0.5, -0.35},  {0.5, 0.35, 1.5, 0.35},
+                                    {0.5, -0.35, 1.5, -0.35}, {1.5, -0.35, 1.5, 0.35}};
+  hal::LaserScan s;
+  s.seq = 1;
+  s.count = 3;
+  s.angle_min_rad = float(-kPi / 2);
+  s.angle_increment_rad = float(kPi / 2);
+  s.range_min_m = 0.02F;
+  s.range_max_m = 10.0F;
+  for (int b = 0; b < 3; ++b) {
+    const double a = p.yaw - kPi / 2 + b * kPi / 2, dx = std::cos(a), dy = std::sin(a);
+    double best = std::numeric_limits<double>::infinity();
+    for (const Wall& w : kWalls) {
+      // p + t d = w0 + u (w1 - w0), t > 0, u in [0, 1].
+      const double ex = w.x1 - w.x0, ey = w.y1 - w.y0, den = dx * ey - dy * ex;
+      if (std::fabs(den) < 1e-12) continue;
+      const double qx = w.x0 - p.x, qy = w.y0 - p.y;
+      const double t = (qx * ey - qy * ex) / den, u = (qx * dy - qy * dx) / den;
+      if (t > 0.0 && u >= 0.0 && u <= 1.0) best = std::fmin(best, t);
+    }
+    s.ranges_m[std::size_t(b)] = float(best);
+  }
+  return s;
+}
+
+// Lost, the leg toward the corridor ends with no room to turn: the runner hands the explorer what
+// is behind, and the robot backs to where the leg began and looks round again from there.
+TEST(MissionRunnerTest, LostInADeadEndItBacksToWhereTheLegBegan) {
+  Rig r;
+  r.cfg.lost_turn_radps = 0.3;
+  r.cfg.lost_explore.speed_mps = 0.2;
+  MissionRunner runner{r.cfg, 0.01, 2, r.mission, r.frame, r.odom, r.obstacles, r.motion, r.sink};
+  Topic<OdometryMsg> pose;
+  runner.watch_pose(pose);
+  pose.edit().localised = false;
+  pose.publish(0);
+  r.odom.edit().pose = Pose2{0.0, 0.0, 0.5};
+  double t = 0.0, max_x = 0.0;
+  bool backed = false;
+  for (int i = 0; i < 6000 && !(backed && r.motion.get().twist.wz > 0.0); ++i) {
+    Pose2& p = r.odom.edit().pose;
+    const Twist& c = r.motion.get().twist;
+    p.yaw = wrap_angle(p.yaw + c.wz * 0.01);
+    p.x += c.vx * std::cos(p.yaw) * 0.01;
+    p.y += c.vx * std::sin(p.yaw) * 0.01;
+    r.odom.publish(0);
+    r.obstacles.edit().update(dead_end_scan(p), p);
+    r.obstacles.publish(0);
+    r.run(runner, t);
+    t += 0.01;
+    max_x = std::fmax(max_x, p.x);
+    backed = backed || r.motion.get().twist.vx < 0.0;
+  }
+  // The leg ended 0.6 m short of the end wall (from the bumper), 0.65 m from the start.
+  EXPECT_NEAR(max_x, 0.65, 0.01);
+  EXPECT_EQ(runner.telemetry().lost_legs, 1U);
+  EXPECT_EQ(runner.telemetry().lost_backs, 1U);
+  // Backed to the start, and turning there again.
+  const Pose2& p = r.odom.get().pose;
+  EXPECT_NEAR(std::hypot(p.x, p.y), 0.0, 0.03);
+  EXPECT_DOUBLE_EQ(r.motion.get().twist.wz, 0.3);
+  EXPECT_EQ(r.motion.get().twist.vx, 0.0);
+}
+
 }  // namespace
 }  // namespace carril::fw
