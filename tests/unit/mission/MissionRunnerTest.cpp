@@ -77,6 +77,20 @@ struct Rig {
     frame.publish(f.now_ns);
     own.run();
   }
+  // The odometry follows the last command for one 10 ms tick; then the scan `scan_at` makes at
+  // the new pose goes into the obstacle field.
+  template <typename ScanAt>
+  const Pose2& follow_command(ScanAt scan_at) {
+    Pose2& p = odom.edit().pose;
+    const Twist& c = motion.get().twist;
+    p.yaw = wrap_angle(p.yaw + c.wz * 0.01);
+    p.x += c.vx * std::cos(p.yaw) * 0.01;
+    p.y += c.vx * std::sin(p.yaw) * 0.01;
+    odom.publish(0);
+    obstacles.edit().update(scan_at(p), p);
+    obstacles.publish(0);
+    return p;
+  }
   void obstacle_at(double range) {
     obstacles.edit().update(scan_with_point_ahead(range), Pose2{});
     obstacles.publish(0);
@@ -348,14 +362,7 @@ TEST(MissionRunnerTest, LostAfterAWholeTurnItDrivesALegAndStopsShortOfAnObstacle
   double t = 0.0;
   // One tick: the odometry follows the last command, the scan shows a return `range` ahead.
   auto tick = [&](bool localised, double range) {
-    Pose2& p = r.odom.edit().pose;
-    const Twist& c = r.motion.get().twist;
-    p.yaw = wrap_angle(p.yaw + c.wz * 0.01);
-    p.x += c.vx * std::cos(p.yaw) * 0.01;
-    p.y += c.vx * std::sin(p.yaw) * 0.01;
-    r.odom.publish(0);
-    r.obstacles.edit().update(scan_with_point_ahead(range), p);
-    r.obstacles.publish(0);
+    r.follow_command([range](const Pose2&) { return scan_with_point_ahead(range); });
     pose.edit().localised = localised;
     pose.publish(0);
     r.run(runner, t);
@@ -443,14 +450,7 @@ TEST(MissionRunnerTest, LostInADeadEndItBacksToWhereTheLegBegan) {
   double t = 0.0, max_x = 0.0;
   bool backed = false;
   for (int i = 0; i < 6000 && !(backed && r.motion.get().twist.wz > 0.0); ++i) {
-    Pose2& p = r.odom.edit().pose;
-    const Twist& c = r.motion.get().twist;
-    p.yaw = wrap_angle(p.yaw + c.wz * 0.01);
-    p.x += c.vx * std::cos(p.yaw) * 0.01;
-    p.y += c.vx * std::sin(p.yaw) * 0.01;
-    r.odom.publish(0);
-    r.obstacles.edit().update(dead_end_scan(p), p);
-    r.obstacles.publish(0);
+    const Pose2& p = r.follow_command(dead_end_scan);
     r.run(runner, t);
     t += 0.01;
     max_x = std::fmax(max_x, p.x);
