@@ -68,10 +68,13 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double
   switch (phase_) {
     case Phase::Turn: {
       if (backing_) {
-        // Backed all the way to where the leg began, where it turned all round before, unless
-        // something is now behind it.
+        // Backed all the way to where the leg began, where it turned all round before. Something
+        // now behind it: it waits, still backing, unless there is room to turn after all.
         const double left = std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
-        if (left > kLegStartM && behind_m >= kBehindStopM) return back_along_leg(odom);
+        if (left > kLegStartM) {
+          if (behind_m >= kBehindStopM) return back_along_leg(odom);
+          if (!can_turn) return t;
+        }
         backing_ = false;
         // Out of the dead end: the next leg does not go back into it.
         last_leg_yaw_ = wrap_angle(last_leg_yaw_ + kPi);

@@ -225,11 +225,22 @@ TEST(LostExplorerTest, BackingStopsForWhatIsBehindAndNeverStartsWithoutALeg) {
   LostExplorer e{driving(), kTurn};
   World w;
   into_dead_end(w, e);
-  // Something stands 0.45 m behind where the leg ended (x = 1.6): it backs 0.3 m and stops
-  // 0.15 m short of it.
-  w.behind = [](const Pose2& p) { return p.x - 1.15; };
+  // Something stands 0.2 m behind where the leg ended (x = 1.6): it backs 0.05 m and stops
+  // 0.15 m short of it, still with no room to turn, and waits.
+  w.behind = [](const Pose2& p) { return p.x - 1.4; };
   for (int i = 0; i < 1000; ++i) w.step(e);
-  EXPECT_NEAR(w.pose.x, 1.3, 0.01);
+  EXPECT_NEAR(w.pose.x, 1.55, 0.01);
+  EXPECT_NEAR(wrap_angle(w.pose.yaw), 0.0, 0.01);
+  // It goes away: the robot backs on to the leg's start, still holding the leg's heading.
+  w.behind = [](const Pose2&) { return 5.0; };
+  double yaw_off = 0.0;
+  for (int i = 0; i < 1000 && w.pose.x > 1.0 + 0.03; ++i) {
+    w.step(e);
+    yaw_off = std::fmax(yaw_off, std::fabs(wrap_angle(w.pose.yaw)));
+  }
+  EXPECT_NEAR(w.pose.x, 1.0, 0.03);
+  EXPECT_LT(yaw_off, 0.05);
+  EXPECT_EQ(e.backs(), 1U);
   // Nothing known behind (0): it stands where it is.
   World still;
   LostExplorer e2{driving(), kTurn};
