@@ -60,6 +60,10 @@ void LostExplorer::start_turn() {
   any_ = Best{};
 }
 
+double LostExplorer::from_leg_start_m(const Pose2& odom) const {
+  return std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
+}
+
 Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double behind_m) {
   const double dyaw = have_yaw_ ? std::fabs(wrap_angle(odom.yaw - last_yaw_)) : 0.0;
   last_yaw_ = odom.yaw;
@@ -70,8 +74,7 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double
       if (backing_) {
         // Backed all the way to where the leg began, where it turned all round before. Something
         // now behind it: it waits, still backing, unless there is room to turn after all.
-        const double left = std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
-        if (left > kLegStartM) {
+        if (from_leg_start_m(odom) > kLegStartM) {
           if (behind_m >= kBehindStopM) return back_along_leg(odom);
           if (!can_turn) return t;
         }
@@ -99,7 +102,7 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double
       if (can_turn) {
         t.wz = turn_radps_;
       } else if (have_leg_ && cfg_.speed_mps > 0.0 && behind_m >= kBehindStopM &&
-                 std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y()) > kLegStartM) {
+                 from_leg_start_m(odom) > kLegStartM) {
         // The last leg ended where there is no room to turn: standing still there it would wait
         // for ever.
         backing_ = true;
@@ -126,8 +129,7 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double
       [[fallthrough]];
     }
     case Phase::Drive: {
-      const double driven = std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
-      if (driven >= cfg_.leg_m || free_m < cfg_.stop_free_m) {
+      if (from_leg_start_m(odom) >= cfg_.leg_m || free_m < cfg_.stop_free_m) {
         start_turn();
         return t;
       }

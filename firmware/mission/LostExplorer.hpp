@@ -52,6 +52,8 @@ class LostExplorer {
   void start_turn();
   // Backing toward the last leg's start, holding its heading.
   Twist back_along_leg(const Pose2& odom) const;
+  // Straight-line distance from where the current leg began [m].
+  double from_leg_start_m(const Pose2& odom) const;
 
   // The longest corridor seen in a look-round, and the middle of the first run of headings that
   // saw it (a heading at the edge of an opening may no longer fit through once faced).
