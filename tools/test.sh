@@ -20,7 +20,7 @@ ctest --preset host -j"$jobs" 2>&1 | tee "$logs/host.log" || rc=1
 echo "== aarch64: cross-build firmware, hal, loader, the robot target and the portable unit tests; run them under qemu"
 cmake --preset aarch64 >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
-ctest --preset aarch64 2>&1 | tee "$logs/aarch64.log" || rc=1
+ctest --preset aarch64 -j"$jobs" 2>&1 | tee "$logs/aarch64.log" || rc=1
 echo "== fuzz: build the libFuzzer targets (clang, ASan, UBSan); short deterministic runs"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$jobs"
