@@ -27,34 +27,32 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
   valid_ = true;
 }
 
-double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) const {
-  double best = max_m;
-  const double half_w = fp_.half_width_m + margin_m;
-  const PoseFrame frame(odom);
-  for (const Vec2& w : pts_) {
-    const Vec2 p = frame.to_robot(w);
-    if (p.x() > fp_.half_length_m && std::fabs(p.y()) <= half_w) {
-      const double d = p.x() - fp_.half_length_m;
-      if (d < best) best = d;
-    }
-  }
-  return best;
-}
-
-double ObstacleField::behind_m(const Pose2& odom, double margin_m, double max_m) const {
-  if (memory_full_) return 0.0;
+double ObstacleField::corridor_m(const Pose2& odom, double margin_m, double max_m, double dir,
+                                 bool remembered) const {
   double best = max_m;
   const double half_w = fp_.half_width_m + margin_m;
   const PoseFrame frame(odom);
   const auto see = [&](const Vec2& w) {
     const Vec2 p = frame.to_robot(w);
-    if (p.x() < -fp_.half_length_m && std::fabs(p.y()) <= half_w) {
-      best = std::fmin(best, -p.x() - fp_.half_length_m);
+    const double along = dir * p.x();
+    if (along > fp_.half_length_m && std::fabs(p.y()) <= half_w) {
+      best = std::fmin(best, along - fp_.half_length_m);
     }
   };
   for (const Vec2& w : pts_) see(w);
-  for (const Vec2& w : memory_) see(w);
+  if (remembered) {
+    for (const Vec2& w : memory_) see(w);
+  }
   return best;
+}
+
+double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) const {
+  return corridor_m(odom, margin_m, max_m, 1.0, false);
+}
+
+double ObstacleField::behind_m(const Pose2& odom, double margin_m, double max_m) const {
+  if (memory_full_) return 0.0;
+  return corridor_m(odom, margin_m, max_m, -1.0, true);
 }
 
 double ObstacleField::from_body_m(const Vec2& p) const {

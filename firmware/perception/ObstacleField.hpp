@@ -70,6 +70,10 @@ class ObstacleField {
   std::uint64_t invalid_beams_ = 0;
   // From robot-frame point p to the footprint rectangle (0 inside it) [m].
   double from_body_m(const Vec2& p) const;
+  // Free distance from the front (dir +1) or rear (dir -1) bumper inside the corridor of
+  // ahead_m, over this scan's points and, with `remembered`, the remembered ones [m].
+  double corridor_m(const Pose2& odom, double margin_m, double max_m, double dir,
+                    bool remembered) const;
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
   // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
   void remember(const hal::LaserScan& scan, const Pose2& odom);
