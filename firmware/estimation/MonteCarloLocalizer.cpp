@@ -91,6 +91,32 @@ void MonteCarloLocalizer::set_global() {
   reset_spread();
 }
 
+bool MonteCarloLocalizer::add_hypothesis(const Pose2& mean, const Pose2& mean_odom,
+                                         double sigma_xy_m, double sigma_yaw_rad, double fraction) {
+  if (!status_ || busy() || !(fraction > 0.0)) return false;
+  // Particles belong to odom_ (the latest update's odometry); before any update, to the next
+  // one's, which is mean_odom give or take a scan period.
+  Pose2 m = mean;
+  if (have_odom_) {
+    // The odometry's motion from mean_odom to odom_, in mean_odom's frame, applied to mean.
+    const double c0 = std::cos(mean_odom.yaw), s0 = std::sin(mean_odom.yaw);
+    const double dx = odom_.x - mean_odom.x, dy = odom_.y - mean_odom.y;
+    const double lx = c0 * dx + s0 * dy, ly = -s0 * dx + c0 * dy;
+    const double c = std::cos(mean.yaw), s = std::sin(mean.yaw);
+    m = {mean.x + c * lx - s * ly, mean.y + s * lx + c * ly,
+         wrap_angle(mean.yaw + wrap_angle(odom_.yaw - mean_odom.yaw))};
+  }
+  const int every = std::max(1, int(std::lround(1.0 / std::min(fraction, 1.0))));
+  for (int i = 0; i < n_; i += every) {
+    Particle& p = cur_[i];
+    p.x = m.x + rng_.gaussian(sigma_xy_m);
+    p.y = m.y + rng_.gaussian(sigma_xy_m);
+    p.yaw = wrap_angle(m.yaw + rng_.gaussian(sigma_yaw_rad));
+    lw_[i] = 0.0;  // the heaviest's: log weights are kept relative to the largest
+  }
+  return true;
+}
+
 // A fresh equally weighted set of max_particles in cur_: its mean and covariance, no update
 // under way, the next scan weighed whatever the motion, the likelihood averages restarted.
 void MonteCarloLocalizer::reset_spread() {

@@ -72,6 +72,13 @@ class MonteCarloLocalizer {
   void set_pose(const Pose2& mean, double sigma_xy_m, double sigma_yaw_rad);
   // max_particles spread uniformly over the free cells and yaws (global localisation).
   void set_global();
+  // Another hypothesis (sensor resetting, Lenser and Veloso): about `fraction` of the particles,
+  // every round(1 / fraction)-th, drawn anew around `mean`, the robot's map pose when the
+  // odometry read `mean_odom` (carried on by the odometry since to the particles' own), with the
+  // weight of the heaviest particle: the next scans weigh it against the cloud. Only between
+  // updates (false while one is running) [m, rad].
+  bool add_hypothesis(const Pose2& mean, const Pose2& mean_odom, double sigma_xy_m,
+                      double sigma_yaw_rad, double fraction);
 
   // Begins an update with a scan taken at odometry pose odom_pose, the lidar at laser_mount in
   // the robot frame. false (nothing to do) while an update is running, when the robot has moved

@@ -527,5 +527,48 @@ TEST(MclLocalizer, MapPoseCarriesTheEstimateOnByOdometry) {
   }
 }
 
+// add_hypothesis (sensor resetting): a cloud converged on a wrong pose gets particles round the
+// right one, carried on by the odometry since the pose was found, and the next scans move the
+// estimate there. Refused while an update runs.
+TEST(MclLocalizer, AHypothesisAddedIsCarriedByOdometryAndWinsIfTheScansFitIt) {
+  const OccupancyGrid map = make_house();
+  MonteCarloLocalizer mcl(house_config(4), map);
+  const Pose2 truth{1.5, 3.5, 0.3};
+  const Pose2 wrong{7.6, 4.8, -1.0};
+  mcl.set_pose(wrong, 0.05, 0.02);
+  MclRng sensor(4);
+  hal::LaserScan scan;
+  synth_scan(map, truth, kMount, {}, sensor, scan);
+  const Pose2 odom0{0.0, 0.0, 0.0};
+  ASSERT_TRUE(mcl.update(scan, odom0, kMount));
+  EXPECT_GT(pos_error(mcl.estimate(), truth), 3.0);  // one view does not move a tight cloud
+  // The truth was found at odometry (-0.5, 0, 0), 0.5 m back along the heading: the hypothesis
+  // is carried 0.5 m forward to the particles' odometry, odom0.
+  const Pose2 back{truth.x - 0.5 * std::cos(truth.yaw), truth.y - 0.5 * std::sin(truth.yaw),
+                   truth.yaw};
+  ASSERT_TRUE(mcl.add_hypothesis(back, {-0.5, 0.0, 0.0}, 0.05, 0.02, 0.3));
+  int near = 0;
+  for (int i = 0; i < mcl.particle_count(); ++i) {
+    near += pos_error(mcl.particles()[i], truth) < 0.25 ? 1 : 0;
+  }
+  EXPECT_NEAR(double(near) / mcl.particle_count(), 1.0 / 3.0, 0.05);
+  for (int k = 0; k < 3; ++k) {
+    synth_scan(map, truth, kMount, {}, sensor, scan);
+    mcl.force_next_update();
+    ASSERT_TRUE(mcl.update(scan, odom0, kMount));
+  }
+  EXPECT_LT(pos_error(mcl.estimate(), truth), 0.1);
+  EXPECT_LT(yaw_error(mcl.estimate(), truth), 0.05);
+  // Not while an update is under way, nor with no fraction.
+  synth_scan(map, truth, kMount, {}, sensor, scan);
+  mcl.force_next_update();
+  ASSERT_TRUE(mcl.begin_update(scan, odom0, kMount));
+  ASSERT_TRUE(mcl.step(10));
+  EXPECT_FALSE(mcl.add_hypothesis(wrong, odom0, 0.05, 0.02, 0.3));
+  while (mcl.step(1000)) {
+  }
+  EXPECT_FALSE(mcl.add_hypothesis(wrong, odom0, 0.05, 0.02, 0.0));
+}
+
 }  // namespace
 }  // namespace carril::fw
