@@ -35,6 +35,11 @@ Status LocalisationConfig::validate() const {
       .range("regain_scans", double(regain_scans), 1.0, 10000.0, "scans")
       .range("regain_turn_rad", regain_turn_rad, 0.0, 100.0, "rad")
       .range("unlocalised_update_period_s", unlocalised_update_period_s, 0.0, 60.0, "s")
+      .range("alias_lookups_per_tick", double(alias_lookups_per_tick), 100.0, 1e9, "lookups")
+      .range("alias_hypothesis_fraction", alias_hypothesis_fraction, 0.0, 1.0, "")
+      .range("alias_hypothesis_sigma_xy_m", alias_hypothesis_sigma_xy_m, 0.0, 10.0, "m")
+      .range("alias_hypothesis_sigma_yaw_rad", alias_hypothesis_sigma_yaw_rad, 0.0, kPi, "rad")
+      .nested(alias_check ? alias.validate() : Status())
       .nested(mcl.validate())
       .result();
 }
@@ -48,6 +53,14 @@ Localisation::Localisation(const LocalisationConfig& cfg, const OccupancyGrid* m
   map_from_odom_ = cfg_.initial_pose;
   mcl_ = std::make_unique<MonteCarloLocalizer>(cfg_.mcl, *map_);
   mcl_->set_search(cfg_.search_while_unlocalised);  // not localised yet
+  if (cfg_.alias_check && mcl_->status()) {
+    AliasSearchConfig ac = cfg_.alias;
+    ac.max_beams = cfg_.mcl.max_beams;
+    ac.max_range_m = cfg_.mcl.laser_max_range_m;
+    ac.max_through_fraction = cfg_.regain_through_fraction;  // what a regain itself must pass
+    ac.through_margin_m = cfg_.through_margin_m;
+    alias_ = std::make_unique<AliasSearch>(ac, mcl_->field(), *map_);
+  }
   if (cfg_.global) {
     mcl_->set_global();
   } else {
@@ -100,18 +113,18 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
              tel_.through_fraction <= cfg_.regain_through_fraction) {
     ++fitting_scans_;
     fitting_turn_rad_ += turn;
-    fits_ =
-        !proven || fitting_scans_ >= cfg_.regain_scans || fitting_turn_rad_ >= cfg_.regain_turn_rad;
+    fits_ = !proven ||
+            ((fitting_scans_ >= cfg_.regain_scans || fitting_turn_rad_ >= cfg_.regain_turn_rad) &&
+             no_alias(scan, pose, odom_pose));
   } else {
-    fitting_scans_ = 0;
-    fitting_turn_rad_ = 0.0;
+    reset_fitting();
     fits_ = !proven;
     wrong = proven && tight() && tel_.through_fraction > cfg_.lost_through_fraction;
   }
   decide();
+  if (localised_) alias_clear_ = false;  // the next regain proves itself afresh
   if ((was_localised && !localised_) || wrong) {
-    fitting_scans_ = 0;
-    fitting_turn_rad_ = 0.0;
+    reset_fitting();
     // With recovery on (mcl.alpha_slow > 0) the robot may have been carried anywhere; a global
     // start searches the whole map anyway, and a wrong convergence has no other way out.
     const bool recovery = cfg_.mcl.alpha_slow > 0.0 || (wrong && cfg_.global);
@@ -126,6 +139,33 @@ void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose)
     // Only scans taken while localised set what a fitting scan looks like here.
     fit_average_ += cfg_.fit_average_alpha * (fit - fit_average_);
     fit_decay_ *= 1.0 - cfg_.fit_average_alpha;
+  }
+}
+
+void Localisation::reset_fitting() {
+  fitting_scans_ = 0;
+  fitting_turn_rad_ = 0.0;
+  alias_clear_ = false;
+  alias_pending_ = false;
+  if (alias_ != nullptr) alias_->abort();
+}
+
+bool Localisation::no_alias(const hal::LaserScan& scan, const Pose2& pose, const Pose2& odom_pose) {
+  if (alias_ == nullptr || alias_clear_) return true;
+  if (!alias_->busy() && alias_->begin(scan, pose, cfg_.lidar_mount)) alias_odom_ = odom_pose;
+  return false;
+}
+
+void Localisation::step_alias_search() {
+  if (alias_ == nullptr || !alias_->busy()) return;
+  if (alias_->step(cfg_.alias_lookups_per_tick)) return;
+  tel_.alias = alias_->result();
+  ++tel_.alias_searches;
+  if (tel_.alias.ambiguous) {
+    ++tel_.alias_ambiguous;
+    alias_pending_ = cfg_.alias_hypothesis_fraction > 0.0;
+  } else {
+    alias_clear_ = true;  // the next scan that fits regains
   }
 }
 
@@ -157,6 +197,15 @@ void Localisation::run() {
       last_fit_seq_ = f.scan->seq;
       check_fit(*f.scan, o.pose);
     }
+    if (alias_pending_ && !mcl_->busy()) {
+      alias_pending_ = false;
+      if (mcl_->add_hypothesis(tel_.alias.alias, alias_odom_, cfg_.alias_hypothesis_sigma_xy_m,
+                               cfg_.alias_hypothesis_sigma_yaw_rad,
+                               cfg_.alias_hypothesis_fraction)) {
+        ++tel_.alias_hypotheses;
+        mcl_->force_next_update();  // weigh it at the next scan
+      }
+    }
     if (!mcl_->busy() && f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_scan_seq_) {
       last_scan_seq_ = f.scan->seq;
       // Held still while lost, the robot would never move enough to update: weigh a scan now and
@@ -167,6 +216,7 @@ void Localisation::run() {
     } else if (mcl_->busy()) {
       (void)mcl_->step(cfg_.particles_per_tick);
     }
+    step_alias_search();
     if (mcl_->telemetry().updates != seen_updates_) {
       seen_updates_ = mcl_->telemetry().updates;
       take_estimate();

@@ -18,6 +18,7 @@
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 
+#include "firmware/estimation/AliasSearch.hpp"
 #include "firmware/estimation/BeamsThroughWalls.hpp"
 #include "firmware/estimation/MonteCarloLocalizer.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
@@ -77,6 +78,23 @@ struct LocalisationConfig {
   // moved (held still it would never update), and no more often: the same view weighed at every
   // scan counts one piece of evidence many times and collapses the filter onto a wrong room [s].
   double unlocalised_update_period_s = 0.5;
+  // Regaining (or proving a global start), the pose must also be the only one that explains a
+  // scan: no pose alias.min_separation_m or more away fits within alias.margin of it
+  // (AliasSearch, over the whole map at the pose's heading). Among alike aisles the filter
+  // otherwise converges one aisle over as often as on the right one; refused, the robot stays
+  // lost and explores until a view tells them apart. Its max_beams and max_range_m are the
+  // filter's; an alias must pass the walls check a regain passes (regain_through_fraction,
+  // through_margin_m). alias_lookups_per_tick bounds the search's work per tick [field lookups].
+  // An alias found is also given to the filter as a hypothesis: alias_hypothesis_fraction of
+  // the particles drawn round it (MonteCarloLocalizer::add_hypothesis), so the next views weigh
+  // it against the cloud (a cloud converged one aisle over, or turned half round, moves to the
+  // right pose instead of waiting for random injection to find it) [-], [m], [rad].
+  bool alias_check = true;
+  AliasSearchConfig alias;
+  int alias_lookups_per_tick = 20000;
+  double alias_hypothesis_fraction = 0.3;
+  double alias_hypothesis_sigma_xy_m = 0.1;
+  double alias_hypothesis_sigma_yaw_rad = 0.05;
 
   Status validate() const;
 };
@@ -98,6 +116,10 @@ struct LocalisationTelemetry {
   double fit_ratio = 1.0;
   // The latest scan's returns through the map's walls at the published pose, of those checked.
   double through_fraction = 0.0;
+  std::uint32_t alias_searches = 0;    // completed alias searches (alias_check)
+  std::uint32_t alias_ambiguous = 0;   // of those, the ones that found an alias: not regained
+  std::uint32_t alias_hypotheses = 0;  // aliases given to the filter as hypotheses
+  AliasResult alias;                   // the latest search's result
   MclTelemetry mcl;
 };
 
@@ -129,6 +151,10 @@ class Localisation {
   Topic<OdometryMsg>& out_;
   Pose2 map_from_odom_;
   std::unique_ptr<MonteCarloLocalizer> mcl_;
+  std::unique_ptr<AliasSearch> alias_;  // alias_check's search (nullptr when off)
+  bool alias_clear_ = false;            // a search found none since the scans began to fit
+  Pose2 alias_odom_;                    // the odometry pose of the search's scan
+  bool alias_pending_ = false;          // an alias to give the filter between updates
   std::uint32_t last_scan_seq_ = 0, last_fit_seq_ = 0;
   std::uint64_t seen_updates_ = 0;
   bool localised_ = false;
@@ -141,6 +167,11 @@ class Localisation {
   double fit_average_ = 0.0;         // running mean log p per beam while localised [log(1/m)]
   double fit_decay_ = 1.0;           // (1 - alpha)^scans averaged: the average's bias correction
   void check_fit(const hal::LaserScan& scan, const Pose2& odom_pose);
+  // Whether the pose has been shown to have no alias since the scans began to fit; if not and
+  // no search is running, begins one with this scan.
+  bool no_alias(const hal::LaserScan& scan, const Pose2& pose, const Pose2& odom_pose);
+  void reset_fitting();
+  void step_alias_search();
   // The estimate's spread is within the localised bounds (twice them while localised).
   bool tight() const;
   void decide();

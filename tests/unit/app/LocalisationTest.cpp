@@ -205,8 +205,8 @@ TEST(Localisation, AKidnapIsLostByTheFitBeforeTheSpreadWidensThenFoundAgainAsAJu
 // same corner of each; room B (x > 5) also has two free-standing partitions, 0.1 m thick, across
 // its middle. From inside room A (no partitions) every return ends on a wall that room B has in
 // the same place, so the likelihood field scores A and B alike; only in B do the returns pass
-// through the partitions.
-std::vector<std::uint8_t> two_rooms(MapInfo& info) {
+// through the partitions. Without `partitions` the rooms are alike in every way.
+std::vector<std::uint8_t> two_rooms(MapInfo& info, bool partitions = true) {
   info = {200, 80, 0.05, 0.0, 0.0};
   std::vector<std::uint8_t> c(200 * 80, cost::kFree);
   for (int j = 0; j < 80; ++j) {
@@ -214,8 +214,9 @@ std::vector<std::uint8_t> two_rooms(MapInfo& info) {
       const bool wall = i < 2 || j < 2 || i >= 198 || j >= 78 || (i >= 98 && i < 102);
       const int ri = i < 100 ? i : i - 100;  // the column within its room
       const bool block = ri >= 62 && ri < 82 && j >= 62 && j < 72;
-      const bool partition = i >= 100 && ((ri >= 48 && ri < 50 && j >= 10 && j < 66) ||
-                                          (j >= 52 && j < 54 && ri >= 8 && ri < 40));
+      const bool partition =
+          partitions && i >= 100 &&
+          ((ri >= 48 && ri < 50 && j >= 10 && j < 66) || (j >= 52 && j < 54 && ri >= 8 && ri < 40));
       if (wall || block || partition) c[std::size_t(j) * 200 + std::size_t(i)] = cost::kLethal;
     }
   }
@@ -232,6 +233,9 @@ LocalisationConfig two_rooms_config(bool through_check) {
   cfg.mcl.laser_max_range_m = 8.0;
   cfg.mcl.alpha_slow = cfg.mcl.alpha_fast = 0.0;
   if (!through_check) cfg.regain_through_fraction = cfg.lost_through_fraction = 1.0;
+  // Without the walls check room B is an alias of room A: the alias check would (rightly) hold
+  // the robot unlocalised, and the test is of the walls check. With it, B is no alias.
+  cfg.alias_check = through_check;
   return cfg;
 }
 
@@ -290,6 +294,44 @@ TEST(Localisation, AGlobalStartIsNotProvenInARoomWhoseWallsTheScansPassThrough) 
   }
   EXPECT_GE(in_b_unchecked, 1) << "of 8 seeds: the test's rooms do not fool the filter";
   EXPECT_GE(wrong, 1) << "no seed converged in B first: the spread was never exercised";
+}
+
+// Rooms alike in every way: no view from room A tells it from room B. A global start is then
+// never localised with the alias check (each search finds the other room and gives it to the
+// filter as a hypothesis), while without it the filter settles on one room and calls itself
+// localised there (in A or, as likely, in B).
+TEST(Localisation, AGlobalStartAmongAlikeRoomsIsNeverLocalisedWithTheAliasCheck) {
+  MapInfo info;
+  const std::vector<std::uint8_t> cells = two_rooms(info, false);
+  OccupancyGrid map(cells.size());
+  ASSERT_TRUE(map.assign(info, cells.data()).is_ok());
+  int localised_unchecked = 0;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    for (const bool alias_check : {true, false}) {
+      LocalisationConfig cfg = two_rooms_config(true);
+      cfg.alias_check = alias_check;
+      cfg.global = true;
+      cfg.mcl.seed = seed;
+      cfg.search_while_unlocalised = true;
+      LocalisationTelemetry tel;
+      const std::vector<OdometryMsg> out = turn_in_room_a(map, cfg, 150, tel);
+      int localised = 0;
+      for (const OdometryMsg& m : out) localised += m.localised ? 1 : 0;
+      if (alias_check) {
+        EXPECT_EQ(localised, 0) << "seed " << seed;
+        EXPECT_GE(tel.alias_ambiguous, 1U) << "seed " << seed;
+        EXPECT_EQ(tel.alias_ambiguous, tel.alias_searches) << "seed " << seed;
+        EXPECT_GE(tel.alias_hypotheses, 1U) << "seed " << seed;
+        // The alias named is the same pose in the other room, 5 m along x.
+        EXPECT_NEAR(std::abs(tel.alias.alias.x - tel.alias.pose.x), 5.0, 0.15) << "seed " << seed;
+        EXPECT_NEAR(tel.alias.alias.y, tel.alias.pose.y, 0.15) << "seed " << seed;
+      } else {
+        EXPECT_EQ(tel.alias_searches, 0U);
+        localised_unchecked += out.back().localised ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_EQ(localised_unchecked, 3) << "the rooms do not hold an unchecked filter back";
 }
 
 // Told it starts in room B where room A's robot would be (a wrong start the likelihood cannot
