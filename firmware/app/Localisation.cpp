@@ -156,6 +156,15 @@ bool Localisation::no_alias(const hal::LaserScan& scan, const Pose2& pose, const
   return false;
 }
 
+int Localisation::particle_budget() const {
+  if (alias_ == nullptr || !alias_->busy()) return cfg_.particles_per_tick;
+  // The search's lookups come out of the tick's share: a particle costs its beams' lookups and
+  // about 24 more (MonteCarloLocalizer's kWeighExtraUnits); the filter keeps a quarter at least.
+  const int per_particle = std::max(mcl_->telemetry().beams_used, 1) + 24;
+  return std::max(cfg_.particles_per_tick / 4,
+                  cfg_.particles_per_tick - cfg_.alias_lookups_per_tick / per_particle);
+}
+
 void Localisation::step_alias_search() {
   if (alias_ == nullptr || !alias_->busy()) return;
   if (alias_->step(cfg_.alias_lookups_per_tick)) return;
@@ -214,7 +223,7 @@ void Localisation::run() {
       if (!localised_ && f.now_ns - last_update_ns_ >= period_ns) mcl_->force_next_update();
       if (mcl_->begin_update(*f.scan, o.pose, cfg_.lidar_mount)) last_update_ns_ = f.now_ns;
     } else if (mcl_->busy()) {
-      (void)mcl_->step(cfg_.particles_per_tick);
+      (void)mcl_->step(particle_budget());
     }
     step_alias_search();
     if (mcl_->telemetry().updates != seen_updates_) {

@@ -84,11 +84,12 @@ struct LocalisationConfig {
   // otherwise converges one aisle over as often as on the right one; refused, the robot stays
   // lost and explores until a view tells them apart. Its max_beams and max_range_m are the
   // filter's; an alias must pass the walls check a regain passes (regain_through_fraction,
-  // through_margin_m). alias_lookups_per_tick bounds the search's work per tick [field lookups].
-  // An alias found is also given to the filter as a hypothesis: alias_hypothesis_fraction of
-  // the particles drawn round it (MonteCarloLocalizer::add_hypothesis), so the next views weigh
-  // it against the cloud (a cloud converged one aisle over, or turned half round, moves to the
-  // right pose instead of waiting for random injection to find it) [-], [m], [rad].
+  // through_margin_m). While a search runs its lookups come out of particles_per_tick.
+  // alias_lookups_per_tick bounds the search's work per tick [field lookups]. An alias found is
+  // also given to the filter as a hypothesis: alias_hypothesis_fraction of the particles drawn
+  // round it (MonteCarloLocalizer::add_hypothesis), so the next views weigh it against the cloud (a
+  // cloud converged one aisle over, or turned half round, moves to the right pose instead of
+  // waiting for random injection to find it) [-], [m], [rad].
   bool alias_check = true;
   AliasSearchConfig alias;
   int alias_lookups_per_tick = 20000;
@@ -172,6 +173,9 @@ class Localisation {
   bool no_alias(const hal::LaserScan& scan, const Pose2& pose, const Pose2& odom_pose);
   void reset_fitting();
   void step_alias_search();
+  // The filter's particle budget this tick: particles_per_tick, less the alias search's share
+  // while one runs (the task's time stays about the same).
+  int particle_budget() const;
   // The estimate's spread is within the localised bounds (twice them while localised).
   bool tight() const;
   void decide();
