@@ -22,6 +22,17 @@ using test::mcl::synth_scan;
 const Pose2 kMount{0.1, 0.0, 0.0};
 constexpr int kNx = 200, kNy = 80;  // 10 x 4 m at 0.05 m
 
+// kNx x kNy cells at 0.05 m, origin (0, 0).
+OccupancyGrid grid(const std::vector<std::uint8_t>& c) {
+  OccupancyGrid g(c.size());
+  MapInfo info;
+  info.nx = kNx;
+  info.ny = kNy;
+  info.resolution_m = 0.05;
+  EXPECT_TRUE(g.assign(info, c.data()).is_ok());
+  return g;
+}
+
 // Two 4 x 3 m rooms side by side (x 0.5..4.5 and 5.5..9.5, y 0.5..3.5), walls between, a box in
 // each at the same place in the room; unless `alike`, the east room is 0.6 m shallower (y up to
 // 2.9) and its box elsewhere. With `pillar`, a pillar in the west room's north-east corner only.
@@ -42,13 +53,7 @@ OccupancyGrid rooms(bool alike, bool pillar) {
     wall(8.0, 2.0, 8.5, 2.4);
   }
   if (pillar) wall(3.9, 2.9, 4.5, 3.5);
-  OccupancyGrid g(c.size());
-  MapInfo info;
-  info.nx = kNx;
-  info.ny = kNy;
-  info.resolution_m = 0.05;
-  EXPECT_TRUE(g.assign(info, c.data()).is_ok());
-  return g;
+  return grid(c);
 }
 
 // One 4 x 3 m room (x 0.5..4.5, y 0.5..3.5) with boxes in opposite corners: the same turned half
@@ -58,13 +63,7 @@ OccupancyGrid turned_room() {
   fill(c, kNx, kNy, 0.5, 0.5, 4.5, 3.5, cost::kFree);
   fill(c, kNx, kNy, 0.5, 0.5, 1.2, 0.9, cost::kLethal);
   fill(c, kNx, kNy, 3.8, 3.1, 4.5, 3.5, cost::kLethal);
-  OccupancyGrid g(c.size());
-  MapInfo info;
-  info.nx = kNx;
-  info.ny = kNy;
-  info.resolution_m = 0.05;
-  EXPECT_TRUE(g.assign(info, c.data()).is_ok());
-  return g;
+  return grid(c);
 }
 
 struct AliasWorld {
