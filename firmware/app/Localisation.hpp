@@ -80,7 +80,8 @@ struct LocalisationConfig {
   double unlocalised_update_period_s = 0.5;
   // Regaining (or proving a global start), the pose must also be the only one that explains a
   // scan: no pose alias.min_separation_m or more away fits within alias.margin of it
-  // (AliasSearch, over the whole map at the pose's heading). Among alike aisles the filter
+  // (AliasSearch, over the whole map, at the pose's heading and turned by a quarter, a half and
+  // three quarters of a turn). Among alike aisles the filter
   // otherwise converges one aisle over as often as on the right one; refused, the robot stays
   // lost and explores until a view tells them apart. Its max_beams and max_range_m are the
   // filter's; an alias must pass the walls check a regain passes (regain_through_fraction,

@@ -78,9 +78,6 @@ class AliasSearch {
   std::uint64_t completed() const { return completed_; }
   const AliasResult& result() const { return result_; }
 
-  // Mean log p per beam of the current search's beams at pose (padded grid coordinates and yaw).
-  double fit_at(const Pose2& pose) const;
-
  private:
   enum class Phase : std::uint8_t { Idle, Scan, Refine };
   struct Kept {
@@ -96,6 +93,9 @@ class AliasSearch {
   // poses it scored to `scored`.
   Pose2 refine(const Pose2& p, float& best, long& scored) const;
   Pose2 world(float gx, float gy, double yaw) const;
+  // Whether the scan seen from pose passes the walls check (max_through_fraction); adds its cost
+  // to `scored` in poses' worth.
+  bool passes_walls_check(const Pose2& pose, long& scored) const;
 
   AliasSearchConfig cfg_;
   Status status_;
