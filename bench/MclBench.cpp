@@ -59,6 +59,18 @@ const World& the_world() {
   return w;
 }
 
+// Durations of the k-th step of each run [us], per k: per step index the median over runs (what
+// the step costs, without the preemptions of a shared machine), and the longest of those: the
+// tick budget the work needs.
+double longest_median_step(std::vector<std::vector<double>>& by_step) {
+  double longest = 0.0;
+  for (std::vector<double>& v : by_step) {
+    std::sort(v.begin(), v.end());
+    longest = std::max(longest, v[v.size() / 2]);
+  }
+  return longest;
+}
+
 MclConfig update_config(int particles) {
   MclConfig c;
   c.max_particles = c.min_particles = particles;
@@ -264,15 +276,8 @@ void BM_MclStep(benchmark::State& state) {
       all.push_back(us);
     }
   }
-  // Per step index the median over updates (what the step costs, without the preemptions of a
-  // shared machine), and the longest of those: the tick budget an update needs.
-  double longest = 0.0;
-  for (auto& v : by_step) {
-    std::sort(v.begin(), v.end());
-    longest = std::max(longest, v[v.size() / 2]);
-  }
   std::sort(all.begin(), all.end());
-  state.counters["longest_step_us"] = longest;
+  state.counters["longest_step_us"] = longest_median_step(by_step);
   state.counters["p99_step_us"] = all[std::size_t(0.99 * double(all.size() - 1))];
   state.counters["steps_per_update"] = double(by_step.size());
 }
@@ -347,14 +352,9 @@ void BM_AliasSearch(benchmark::State& state) {
     lookups += long(search.candidate_count()) * c.headings * c.coarse_beams;
     benchmark::DoNotOptimize(search.result());
   }
-  double longest = 0.0;
-  for (std::vector<double>& v : step_us) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    longest = std::max(longest, v[v.size() / 2]);
-  }
   state.counters["candidates"] = double(search.candidate_count());
   state.counters["steps"] = double(step_us.size());
-  state.counters["longest_step_us"] = longest;
+  state.counters["longest_step_us"] = longest_median_step(step_us);
   state.counters["lookups_per_us"] =
       benchmark::Counter(double(lookups) * 1e-6, benchmark::Counter::kIsRate);
 }

@@ -71,14 +71,10 @@ Pose2 AliasSearch::world(float gx, float gy, double yaw) const {
 bool AliasSearch::begin(const hal::LaserScan& scan, const Pose2& pose, const Pose2& laser_mount) {
   phase_ = Phase::Idle;
   if (!status_) return false;
-  const double mc = std::cos(laser_mount.yaw), ms = std::sin(laser_mount.yaw);
+  const BeamEndpoints endpoint(laser_mount, inv_res_);
   nb_ = 0;
   for_each_weighed_beam(scan, cfg_.max_range_m, cfg_.max_beams, [&](int i) {
-    const double a = double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
-    const double r = double(scan.ranges_m[std::size_t(i)]);
-    const double lx = r * std::cos(a), ly = r * std::sin(a);
-    bx_[std::size_t(nb_)] = float((laser_mount.x + mc * lx - ms * ly) * inv_res_);
-    by_[std::size_t(nb_)] = float((laser_mount.y + ms * lx + mc * ly) * inv_res_);
+    endpoint(scan, i, bx_[std::size_t(nb_)], by_[std::size_t(nb_)]);
     ++nb_;
   });
   if (nb_ == 0) return false;
@@ -223,7 +219,6 @@ bool AliasSearch::step(long lookups) {
     if (++cursor_ >= n_kept_) {
       result_.alias_fit = double(best_alias_) / double(nb_);
       result_.alias = best_alias_pose_;
-      result_.candidates = n_cand_;
       result_.ambiguous = result_.alias_fit >= result_.own_fit - cfg_.margin;
       ++completed_;
       phase_ = Phase::Idle;

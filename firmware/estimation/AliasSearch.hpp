@@ -51,7 +51,6 @@ struct AliasResult {
   double alias_fit = 0.0;  // the best alias's fit (-inf when no candidate) [log(1/m) per beam]
   Pose2 pose;              // the pose, refined [m, m, rad]
   Pose2 alias;             // the best alias, refined [m, m, rad]
-  int candidates = 0;      // positions scored
   bool ambiguous = false;  // alias_fit >= own_fit - margin
 };
 

@@ -11,6 +11,14 @@ namespace carril::fw {
 
 namespace {
 
+// A map pose of the robot taken when the odometry read from_odom, carried on by the odometry's
+// motion since (to to_odom), that motion taken in the robot's frame.
+Pose2 carried(const Pose2& pose, const Pose2& from_odom, const Pose2& to_odom) {
+  const Vec2 d = to_robot(from_odom, Vec2(to_odom.x, to_odom.y));
+  const Vec2 p = to_world(pose, d);
+  return {p.x(), p.y(), wrap_angle(pose.yaw + to_odom.yaw - from_odom.yaw)};
+}
+
 int clamp_units(long units) {
   return int(std::min(units, long(INT_MAX)));
 }
@@ -96,16 +104,7 @@ bool MonteCarloLocalizer::add_hypothesis(const Pose2& mean, const Pose2& mean_od
   if (!status_ || busy() || !(fraction > 0.0)) return false;
   // Particles belong to odom_ (the latest update's odometry); before any update, to the next
   // one's, which is mean_odom give or take a scan period.
-  Pose2 m = mean;
-  if (have_odom_) {
-    // The odometry's motion from mean_odom to odom_, in mean_odom's frame, applied to mean.
-    const double c0 = std::cos(mean_odom.yaw), s0 = std::sin(mean_odom.yaw);
-    const double dx = odom_.x - mean_odom.x, dy = odom_.y - mean_odom.y;
-    const double lx = c0 * dx + s0 * dy, ly = -s0 * dx + c0 * dy;
-    const double c = std::cos(mean.yaw), s = std::sin(mean.yaw);
-    m = {mean.x + c * lx - s * ly, mean.y + s * lx + c * ly,
-         wrap_angle(mean.yaw + wrap_angle(odom_.yaw - mean_odom.yaw))};
-  }
+  const Pose2 m = have_odom_ ? carried(mean, mean_odom, odom_) : mean;
   const int every = std::max(1, int(std::lround(1.0 / std::min(fraction, 1.0))));
   for (int i = 0; i < n_; i += every) {
     Particle& p = cur_[i];
@@ -170,15 +169,10 @@ bool MonteCarloLocalizer::begin_update(const hal::LaserScan& scan, const Pose2& 
   nv = skip_unmapped(scan, odom_pose, laser_mount, nv);
   // max_beams of them, evenly spaced, as endpoints in the robot frame [cells].
   n_beams_ = std::min(nv, cfg_.max_beams);
-  const double inv_res = 1.0 / field_.resolution();
-  const double mc = std::cos(laser_mount.yaw), ms = std::sin(laser_mount.yaw);
+  const BeamEndpoints endpoint(laser_mount, 1.0 / field_.resolution());
   for (int k = 0; k < n_beams_; ++k) {
     const int i = valid_[std::size_t((2L * k + 1) * nv / (2L * n_beams_))];
-    const double a = double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
-    const double r = double(scan.ranges_m[std::size_t(i)]);
-    const double lx = r * std::cos(a), ly = r * std::sin(a);
-    beam_x_[std::size_t(k)] = float((laser_mount.x + mc * lx - ms * ly) * inv_res);
-    beam_y_[std::size_t(k)] = float((laser_mount.y + ms * lx + mc * ly) * inv_res);
+    endpoint(scan, i, beam_x_[std::size_t(k)], beam_y_[std::size_t(k)]);
   }
   const double rho = search_ ? cfg_.search_beam_correlation : cfg_.beam_correlation;
   temper_ = float(1.0 / (1.0 + double(n_beams_ - 1) * rho));
@@ -333,10 +327,7 @@ bool MonteCarloLocalizer::step(int particle_budget) {
 
 Pose2 MonteCarloLocalizer::map_pose(const Pose2& odom_now) const {
   if (!estimate_has_odom_) return estimate_;
-  // The odometry's motion since the estimate, in the robot frame then, applied to the estimate.
-  const Vec2 d = to_robot(estimate_odom_, Vec2(odom_now.x, odom_now.y));
-  const Vec2 p = to_world(estimate_, d);
-  return {p.x(), p.y(), wrap_angle(estimate_.yaw + odom_now.yaw - estimate_odom_.yaw)};
+  return carried(estimate_, estimate_odom_, odom_now);
 }
 
 Pose2 MonteCarloLocalizer::map_from_odom() const {

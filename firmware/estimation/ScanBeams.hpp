@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "firmware/core/Geometry.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -41,5 +42,25 @@ int for_each_weighed_beam(const hal::LaserScan& scan, double max_range_m, int ma
   }
   return int(k);
 }
+
+// A return as an endpoint in the robot frame, in cells (the unit the likelihood field's lookups
+// take): the lidar at `mount` in the robot frame [m, m, rad], cells of 1 / inv_res metres.
+class BeamEndpoints {
+ public:
+  BeamEndpoints(const Pose2& mount, double inv_res)
+      : mount_(mount), mc_(std::cos(mount.yaw)), ms_(std::sin(mount.yaw)), inv_res_(inv_res) {}
+  // Return i of `scan` [cells].
+  void operator()(const hal::LaserScan& scan, int i, float& x, float& y) const {
+    const double a = double(scan.angle_min_rad) + double(i) * double(scan.angle_increment_rad);
+    const double r = double(scan.ranges_m[std::size_t(i)]);
+    const double lx = r * std::cos(a), ly = r * std::sin(a);
+    x = float((mount_.x + mc_ * lx - ms_ * ly) * inv_res_);
+    y = float((mount_.y + ms_ * lx + mc_ * ly) * inv_res_);
+  }
+
+ private:
+  Pose2 mount_;
+  double mc_, ms_, inv_res_;
+};
 
 }  // namespace carril::fw

@@ -131,7 +131,7 @@ TEST(AliasSearch, ARoomThatDiffersIsNoAlias) {
   EXPECT_FALSE(r.ambiguous) << "own " << r.own_fit << " alias " << r.alias_fit << " at "
                             << r.alias.x << " " << r.alias.y << " " << r.alias.yaw;
   EXPECT_GT(r.own_fit, r.alias_fit + config().margin);
-  EXPECT_GT(r.candidates, 1000);
+  EXPECT_GT(s.candidate_count(), 1000);
 }
 
 TEST(AliasSearch, AWrongPoseFitsWorseThanTheAliasItNames) {
