@@ -95,9 +95,12 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   if (row0 >= ny) row0 -= ny;
   const bool include_end = end_clipped || !keep_end;
   grid::trace_line_from(col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end, [&](std::size_t i) {
-    // Lethal cells are rare on a ray; keeping their branch out of the loop's straight path
-    // makes the common cell a load, a compare and a store.
-    if (cost[i] != cost::kLethal) [[likely]] {
+    // Most cells on a ray are free already: a load and a compare, no store (a store would
+    // dirty every cache line the fan crosses). Lethal cells are rare.
+    const std::uint8_t v = cost[i];
+    if (v == cost::kFree) [[likely]]
+      return;
+    if (v != cost::kLethal) {
       cost[i] = cost::kFree;
       return;
     }
