@@ -1,7 +1,10 @@
 #include "firmware/health/SensorHealth.hpp"
 
+#include <bit>
 #include <cassert>
 #include <cmath>
+
+#include "firmware/core/Lanes.hpp"
 
 namespace carril::fw {
 
@@ -47,25 +50,52 @@ double ScanHealth::valid_fraction() const {
 
 FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) {
   const int step = cfg_.sample_step_px > 0 ? cfg_.sample_step_px : 1;
-  int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV offset basis
+  // FNV-1a over the samples, in four lanes taken in turn and folded at the end: one chain of
+  // multiplies would take its latency per sample. Only equality with the last frame's hash
+  // matters, so the lanes' value need not match a one-lane hash. The colour range in byte lanes,
+  // four samples at a time (bytes 4i..4i+2 are sample i's B, G, R; byte 4i+3 stays 0).
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  std::uint64_t h[4] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL, 0x9ce484222325cbf2ULL,
+                        0x2325cbf29ce48422ULL};
+  lanes::U8x16 vlo, vhi = {};
+  for (int i = 0; i < 16; ++i) vlo[i] = 255;
+  const auto word = [](const std::uint8_t* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16;
+  };
   for (int v = step / 2; v < frame.height; v += step) {
-    for (int u = step / 2; u < frame.width; u += step) {
+    int u = step / 2;
+    for (; u + 3 * step < frame.width; u += 4 * step) {
+      // Built in a register: four stores read back as one load would stall on forwarding.
+      const lanes::U32x4 w = {word(frame.pixel(u, v)), word(frame.pixel(u + step, v)),
+                              word(frame.pixel(u + 2 * step, v)),
+                              word(frame.pixel(u + 3 * step, v))};
+      for (int k = 0; k < 4; ++k) h[k] = (h[k] ^ w[k]) * kPrime;
+      const auto b = std::bit_cast<lanes::U8x16>(w);
+      vlo = b < vlo ? b : vlo;
+      vhi = b > vhi ? b : vhi;
+    }
+    for (; u < frame.width; u += step) {
       const std::uint8_t* p = frame.pixel(u, v);
+      h[0] = (h[0] ^ word(p)) * kPrime;
       for (int c = 0; c < 3; ++c) {
-        lo[c] = p[c] < lo[c] ? p[c] : lo[c];
-        hi[c] = p[c] > hi[c] ? p[c] : hi[c];
+        vlo[c] = p[c] < vlo[c] ? p[c] : vlo[c];
+        vhi[c] = p[c] > vhi[c] ? p[c] : vhi[c];
       }
-      // One multiply per sample: the three bytes as one word.
-      h = (h ^ (std::uint64_t(p[0]) | std::uint64_t(p[1]) << 8 | std::uint64_t(p[2]) << 16)) *
-          0x100000001b3ULL;
+    }
+  }
+  const std::uint64_t hash = (((h[0] * kPrime ^ h[1]) * kPrime ^ h[2]) * kPrime ^ h[3]) * kPrime;
+  int lo[3] = {255, 255, 255}, hi[3] = {0, 0, 0};
+  for (int i = 0; i < 16; i += 4) {
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = vlo[i + c] < lo[c] ? vlo[i + c] : lo[c];
+      hi[c] = vhi[i + c] > hi[c] ? vhi[i + c] : hi[c];
     }
   }
   spread_ = 0;
   for (int c = 0; c < 3; ++c) spread_ = hi[c] - lo[c] > spread_ ? hi[c] - lo[c] : spread_;
 
-  const bool changed = !have_hash_ || h != hash_;
-  hash_ = h;
+  const bool changed = !have_hash_ || hash != hash_;
+  hash_ = hash;
   have_hash_ = true;
   if (changed) changed_at_ = odom;
 

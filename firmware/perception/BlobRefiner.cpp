@@ -6,7 +6,7 @@
 
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
-#include "firmware/perception/Lanes.hpp"
+#include "firmware/core/Lanes.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {

@@ -9,7 +9,7 @@
 #include "firmware/perception/BlobLabeler.hpp"
 #include "firmware/perception/BlobRefiner.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
-#include "firmware/perception/Lanes.hpp"
+#include "firmware/core/Lanes.hpp"
 
 // The pipeline, against the thesis's OpenCV one (GaussianBlur 5x5, cvtColor HSV, inRange, erode
 // x2, dilate x2, findContours, largest contour's moments and fitLine):

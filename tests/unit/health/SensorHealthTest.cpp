@@ -86,13 +86,14 @@ TEST(ScanHealthTest, ScanWithNoBeamsIsNotValid) {
 
 // ---- Camera ----
 
-// A 160x120 frame: floor grey with a speckle pattern that shifts with `offset` px.
-std::unique_ptr<hal::CameraFrame> textured(int offset) {
+// A 160x120 frame (or `width` wide): floor grey with a speckle pattern that shifts with
+// `offset` px.
+std::unique_ptr<hal::CameraFrame> textured(int offset, int width = 160) {
   auto f = std::make_unique<hal::CameraFrame>();
-  f->width = 160;
+  f->width = std::uint16_t(width);
   f->height = 120;
   for (int v = 0; v < 120; ++v) {
-    for (int u = 0; u < 160; ++u) {
+    for (int u = 0; u < width; ++u) {
       const bool speck = ((u + offset) / 7 + v / 5) % 3 == 0;
       for (int c = 0; c < 3; ++c) f->pixel(u, v)[c] = speck ? 100 : 90;
     }
@@ -206,31 +207,39 @@ TEST(FrameHealthTest, ChangingImageWhileDrivingIsFine) {
 }
 
 TEST(FrameHealthTest, OneSampledPixelChangingIsAChangedImage) {
-  // Every sample counts, in either of the hash's two chains (even and odd samples of a row) and
-  // in each channel, the last sample of the last sampled row included: the frozen rule must not
-  // fire while any of them moves. And the spread sees that sample as well.
+  // Every sample counts, in each of the hash's four lanes (samples taken four at a time along a
+  // row) and in the row's tail past the last group of four, in each channel, in the first and
+  // the last sampled row: the frozen rule must not fire while any of them moves. And the spread
+  // sees that sample as well. 160 px: 20 samples a row, no tail; 150 px: 19, a tail of 3.
   const FrameHealthConfig cfg;
   const int step = cfg.sample_step_px, half = step / 2;
-  const int last_u = half + ((160 - 1 - half) / step) * step;
   const int last_v = half + ((120 - 1 - half) / step) * step;
-  const int us[] = {half, half + step, last_u};
-  for (const int u : us) {
-    for (int c = 0; c < 3; ++c) {
-      FrameHealth h(cfg);
-      auto f = textured(3);
-      Pose2 p;
-      for (int i = 0; i < 20; ++i) {
-        f->pixel(u, last_v)[c] = std::uint8_t(i % 2 == 0 ? 90 : 91);
-        EXPECT_EQ(h.add(*f, p), FrameVerdict::Ok) << "u " << u << " channel " << c << " " << i;
-        p.x += 0.0167;
+  for (const int width : {160, 150}) {
+    const int last_u = half + ((width - 1 - half) / step) * step;
+    const int us[] = {half, half + step, half + 2 * step, half + 3 * step, last_u - step, last_u};
+    for (const int v : {half, last_v}) {
+      for (const int u : us) {
+        for (int c = 0; c < 3; ++c) {
+          FrameHealth h(cfg);
+          auto f = textured(3, width);
+          Pose2 p;
+          for (int i = 0; i < 20; ++i) {
+            f->pixel(u, v)[c] = std::uint8_t(i % 2 == 0 ? 90 : 91);
+            EXPECT_EQ(h.add(*f, p), FrameVerdict::Ok)
+                << "width " << width << " u " << u << " v " << v << " channel " << c << " " << i;
+            p.x += 0.0167;
+          }
+          FrameHealth s(cfg);
+          f->pixel(u, v)[c] = 250;  // far above the texture's 90 to 100
+          s.add(*f, Pose2{});
+          EXPECT_EQ(s.last_spread(), 250 - 90) << "width " << width << " u " << u << " v " << v;
+          f->pixel(u, v)[c] = 20;  // and far below
+          s.add(*f, Pose2{});
+          EXPECT_EQ(s.last_spread(), 100 - 20) << "width " << width << " u " << u << " v " << v;
+        }
       }
     }
   }
-  FrameHealth h(cfg);
-  auto f = textured(3);
-  f->pixel(last_u, last_v)[2] = 250;  // R, far above the texture's 90 to 100
-  h.add(*f, Pose2{});
-  EXPECT_EQ(h.last_spread(), 250 - 90);
 }
 
 // ---- IMU ----

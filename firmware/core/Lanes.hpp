@@ -1,7 +1,7 @@
 #pragma once
-// Eight 16-bit lanes for the perception's pixel loops (GCC and Clang vector extensions: SSE2 on
-// x86-64, NEON on aarch64). Written out so, the compiler neither falls back to a scalar loop for
-// a short tail nor widens to 32-bit lanes.
+// Byte and 16-bit lanes for pixel loops (perception, frame health) (GCC and Clang vector
+// extensions: SSE2 on x86-64, NEON on aarch64). Written out so, the compiler neither falls back to
+// a scalar loop for a short tail nor widens to 32-bit lanes.
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -11,6 +11,7 @@ namespace carril::fw::lanes {
 using U8x8 = std::uint8_t __attribute__((vector_size(8)));
 using U16x8 = std::uint16_t __attribute__((vector_size(16)));
 using U8x16 = std::uint8_t __attribute__((vector_size(16)));
+using U32x4 = std::uint32_t __attribute__((vector_size(16)));
 
 // Eight bytes to eight lanes: each byte paired with a zero byte (one unpack instruction).
 inline U16x8 widen8(const std::uint8_t* p) {
