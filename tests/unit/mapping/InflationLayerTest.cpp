@@ -147,6 +147,35 @@ TEST(InflationLayerTest, MatchesBruteForceOnRandomGrids) {
   }
 }
 
+// The largest radius init() takes (kMaxRadiusCells): the capped vertical distances reach
+// kMaxRadiusCells + 1, the top of their byte arithmetic. A few lethal cells in a grid wider than
+// the radius, unknown cells round them, a wrapped window: every cell equals the brute force.
+TEST(InflationLayerTest, MatchesBruteForceAtTheLargestRadius) {
+  InflationConfig c = default_config();
+  c.inflation_radius_m = InflationLayer::kMaxRadiusCells * kRes;
+  c.cost_scaling_factor = 0.5;  // costs still above 0 far out, so far cells are checked too
+  const int n = 2 * InflationLayer::kMaxRadiusCells + 20;
+  InflationLayer inf;
+  ASSERT_TRUE(inf.init(c, n, n, kRes));
+  auto src = make_grid(n, cost::kFree, -37, 81);
+  for (int ly = 0; ly < n; ly += 9) src.local((ly * 7) % n, ly) = cost::kUnknown;
+  src.local(3, 5) = cost::kLethal;
+  src.local(n - 2, n / 2) = cost::kLethal;
+  src.local(n / 2, n - 1) = cost::kLethal;
+  const std::vector<int> want = brute_force(src, c);
+  inf.apply(src, src);
+  int mismatches = 0, costed_far = 0;
+  for (int ly = 0; ly < n; ++ly) {
+    for (int lx = 0; lx < n; ++lx) {
+      const int w = want[std::size_t(ly * n + lx)];
+      if (src.local(lx, ly) != w) ++mismatches;
+      if (w > 0 && w < 50) ++costed_far;
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(costed_far, 1000);  // the far, low costs are there to be compared
+}
+
 // Pairs of lethal cells 1 to 4R + 4 columns apart, each pair in its own band of rows: the rows
 // hold two clusters of costed columns whose widenings overlap, touch, or lie apart (each cluster
 // is inflated on its own), on a window whose storage wraps inside the pairs.
