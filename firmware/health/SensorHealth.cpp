@@ -3,6 +3,7 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 
 #include "firmware/core/Lanes.hpp"
 
@@ -62,13 +63,21 @@ FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) 
   const auto word = [](const std::uint8_t* p) {
     return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16;
   };
+  const auto word4 = [](const std::uint8_t* p) {  // the same, p[3] must be readable
+    std::uint32_t w = 0;
+    std::memcpy(&w, p, sizeof w);
+    static_assert(std::endian::native == std::endian::little, "B in the low byte");
+    return w & 0xFFFFFFU;
+  };
   for (int v = step / 2; v < frame.height; v += step) {
     int u = step / 2;
-    for (; u + 3 * step < frame.width; u += 4 * step) {
+    // Four bytes read per sample, the next pixel's first one masked off: so the group's last
+    // sample must not be the row's last pixel.
+    for (; u + 3 * step + 1 < frame.width; u += 4 * step) {
       // Built in a register: four stores read back as one load would stall on forwarding.
-      const lanes::U32x4 w = {word(frame.pixel(u, v)), word(frame.pixel(u + step, v)),
-                              word(frame.pixel(u + 2 * step, v)),
-                              word(frame.pixel(u + 3 * step, v))};
+      const lanes::U32x4 w = {word4(frame.pixel(u, v)), word4(frame.pixel(u + step, v)),
+                              word4(frame.pixel(u + 2 * step, v)),
+                              word4(frame.pixel(u + 3 * step, v))};
       for (int k = 0; k < 4; ++k) h[k] = (h[k] ^ w[k]) * kPrime;
       const auto b = std::bit_cast<lanes::U8x16>(w);
       vlo = b < vlo ? b : vlo;
