@@ -30,10 +30,12 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
   if (start.global || start.recovery) {
     // A robot that may have to find itself with nothing to go by (told nothing, or carried
     // elsewhere): the filter searches the whole map with its wide model while lost, and the robot
-    // looks round meanwhile (a slow turn in place, only with room to turn, shows a 180 deg lidar
-    // the whole room). Told where it starts, it waits still.
+    // looks round meanwhile (a turn in place, only with room to turn, shows a 180 deg lidar the
+    // whole room). Told where it starts, it waits still. 1 rad/s: a whole turn in 6.3 s, so the
+    // filter sees more of the building in its minute; at 0.3 rad/s (21 s a turn) fewer seeds
+    // relocalised and more converged wrong first (docs/robustness.md, stop 38).
     l.search_while_unlocalised = true;
-    c.runner.lost_turn_radps = 0.3;
+    c.runner.lost_turn_radps = 1.0;
     // Still lost after a whole turn (a view that fits several alike places), it drives 2 m legs
     // toward open space at a walking pace and looks round again.
     c.runner.lost_explore.speed_mps = 0.2;
