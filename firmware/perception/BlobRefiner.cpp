@@ -4,9 +4,9 @@
 #include <cassert>
 #include <cstring>
 
+#include "firmware/core/Lanes.hpp"
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
-#include "firmware/core/Lanes.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {

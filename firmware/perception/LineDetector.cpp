@@ -5,11 +5,11 @@
 #include <cstring>
 #include <type_traits>
 
+#include "firmware/core/Lanes.hpp"
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/BlobLabeler.hpp"
 #include "firmware/perception/BlobRefiner.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
-#include "firmware/core/Lanes.hpp"
 
 // The pipeline, against the thesis's OpenCV one (GaussianBlur 5x5, cvtColor HSV, inRange, erode
 // x2, dilate x2, findContours, largest contour's moments and fitLine):
