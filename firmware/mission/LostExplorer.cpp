@@ -64,6 +64,11 @@ double LostExplorer::from_leg_start_m(const Pose2& odom) const {
   return std::hypot(odom.x - leg_start_.x(), odom.y - leg_start_.y());
 }
 
+double LostExplorer::along_leg_m(const Pose2& odom) const {
+  return (odom.x - leg_start_.x()) * std::cos(last_leg_yaw_) +
+         (odom.y - leg_start_.y()) * std::sin(last_leg_yaw_);
+}
+
 Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double behind_m) {
   const double dyaw = have_yaw_ ? std::fabs(wrap_angle(odom.yaw - last_yaw_)) : 0.0;
   last_yaw_ = odom.yaw;
@@ -74,7 +79,7 @@ Twist LostExplorer::step(const Pose2& odom, bool can_turn, double free_m, double
       if (backing_) {
         // Backed all the way to where the leg began, where it turned all round before. Something
         // now behind it: it waits, still backing, unless there is room to turn after all.
-        if (from_leg_start_m(odom) > kLegStartM) {
+        if (along_leg_m(odom) > kLegStartM) {
           if (behind_m >= kBehindStopM) return back_along_leg(odom);
           if (!can_turn) return t;
         }

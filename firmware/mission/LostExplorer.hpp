@@ -54,6 +54,10 @@ class LostExplorer {
   Twist back_along_leg(const Pose2& odom) const;
   // Straight-line distance from where the current leg began [m].
   double from_leg_start_m(const Pose2& odom) const;
+  // How far along the leg's heading it is from where the leg began [m]. Backing ends where this
+  // reaches the start: a robot a few cm to the side of its track never comes within a small
+  // circle round the start, and would back on past it until something stood behind it.
+  double along_leg_m(const Pose2& odom) const;
 
   // The longest corridor seen in a look-round, and the middle of the first run of headings that
   // saw it (a heading at the edge of an opening may no longer fit through once faced).

@@ -221,6 +221,30 @@ TEST(LostExplorerTest, ALegThatEndsWithNoRoomToTurnIsBackedToItsStart) {
   EXPECT_EQ(e.backs(), 1U);
 }
 
+TEST(LostExplorerTest, BackingEndsAtTheLegsStartEvenOffItsTrack) {
+  // The wheels slipped 5 cm sideways at the leg's end: backing along the leg's heading passes the
+  // start 5 cm to its side. It stops there, level with the start, and does not back on past it
+  // (nothing stands behind: it would back on until something did).
+  LostExplorer e{driving(), kTurn};
+  World w;
+  into_dead_end(w, e);
+  w.pose.y += 0.05;
+  bool backed = false;
+  for (int i = 0; i < 3000; ++i) {
+    const Twist t = w.step(e);
+    if (t.vx < 0.0) {
+      backed = true;
+    } else if (backed) {
+      break;  // the first step after the backing
+    }
+  }
+  ASSERT_TRUE(backed);
+  EXPECT_EQ(e.backs(), 1U);
+  EXPECT_NEAR(w.pose.x, 1.0, 0.03);
+  EXPECT_NEAR(w.pose.y, 2.05, 0.01);
+  EXPECT_NE(e.phase(), LostExplorer::Phase::Drive);
+}
+
 TEST(LostExplorerTest, BackingStopsForWhatIsBehindAndNeverStartsWithoutALeg) {
   LostExplorer e{driving(), kTurn};
   World w;
