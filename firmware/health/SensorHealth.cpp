@@ -58,8 +58,7 @@ FrameVerdict FrameHealth::add(const hal::CameraFrame& frame, const Pose2& odom) 
   constexpr std::uint64_t kPrime = 0x100000001b3ULL;
   std::uint64_t h[4] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL, 0x9ce484222325cbf2ULL,
                         0x2325cbf29ce48422ULL};
-  lanes::U8x16 vlo, vhi = {};
-  for (int i = 0; i < 16; ++i) vlo[i] = 255;
+  lanes::U8x16 vlo = ~lanes::U8x16{}, vhi = {};  // every byte 255, every byte 0
   const auto word = [](const std::uint8_t* p) {
     return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16;
   };
