@@ -85,6 +85,16 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   const int cx0 = start_.cx, cy0 = start_.cy;
   const int cx1 = std::clamp(cost_.cell_of(x1), lo_x, lo_x + nx - 1);
   const int cy1 = std::clamp(cost_.cell_of(y1), lo_y, lo_y + ny - 1);
+  const bool include_end = end_clipped || !keep_end;
+  // The same cells as the last ray of this scan: its walk already cleared them, and counted
+  // this scan's miss on each lethal one (last_miss), so walking them again would change nothing.
+  const LastRay ray{cx0, cy0, cx1, cy1, include_end, true};
+  if (last_ray_.valid && ray.cx0 == last_ray_.cx0 && ray.cy0 == last_ray_.cy0 &&
+      ray.cx1 == last_ray_.cx1 && ray.cy1 == last_ray_.cy1 &&
+      ray.include_end == last_ray_.include_end) {
+    return;
+  }
+  last_ray_ = ray;
   std::uint8_t* cost = grid::storage_base(cost_);
   CellState* state = grid::storage_base(state_);
   const std::uint8_t scan = scan_counter_;
@@ -93,7 +103,6 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   int col0 = col_off + (cx0 - lo_x), row0 = row_off + (cy0 - lo_y);
   if (col0 >= nx) col0 -= nx;
   if (row0 >= ny) row0 -= ny;
-  const bool include_end = end_clipped || !keep_end;
   grid::trace_line_from(col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end, [&](std::size_t i) {
     // Most cells on a ray are free already: a load and a compare, no store (a store would
     // dirty every cache line the fan crosses). Lethal cells are rare.
@@ -122,6 +131,7 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
     return st;
   }
   ++scan_counter_;
+  last_ray_ = LastRay{};  // a new scan counts its own misses, on every ray
   beams_.update(scan);
   const double yaw_c = std::cos(sensor_pose.yaw), yaw_s = std::sin(sensor_pose.yaw);
   const std::uint16_t now_ds = std::uint16_t((scan.stamp_ns / 100'000'000) & 0xFFFF);

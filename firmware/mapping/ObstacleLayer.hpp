@@ -87,6 +87,14 @@ class ObstacleLayer {
     int lo_x = 0, lo_y = 0, cx = 0, cy = 0;
   };
   RayStart start_;
+  // The last ray walked in this scan, by its cells [cells]: a beam that ends in the same cell as
+  // the one before it (a quarter of a 541-beam scan within a few metres) walks the very same
+  // cells, and a second walk changes nothing (see clear_ray), so it is skipped.
+  struct LastRay {
+    int cx0 = 0, cy0 = 0, cx1 = 0, cy1 = 0;
+    bool include_end = false, valid = false;
+  };
+  LastRay last_ray_;
   std::uint8_t scan_counter_ = 0;
   std::uint16_t last_decay_ds_ = 0;
   bool decayed_once_ = false;

@@ -137,6 +137,22 @@ TEST(ObstacleLayerTest, RemovedObstacleClearsAfterClearScansScansNotOne) {
   EXPECT_EQ(l.grid().at(10, 0), cost::kFree);
 }
 
+// A beam that walks the same cells as the one before it is skipped within a scan, but each scan
+// walks its own: the same single beam, scan after scan, counts one miss each time.
+TEST(ObstacleLayerTest, TheSameBeamEveryScanCountsAMissEveryScan) {
+  ObstacleLayerConfig cfg;
+  cfg.clear_scans = 3;
+  ObstacleLayer l = make_layer(cfg);
+  l.update(make_scan(1, 0.0, 0.0, 1.0F), kOrigin);
+  ASSERT_EQ(l.grid().at(10, 0), cost::kLethal);
+  const hal::LaserScan open = make_scan(1, 0.0, 0.0, kInf);
+  l.update(open, kOrigin);
+  l.update(open, kOrigin);
+  EXPECT_EQ(l.grid().at(10, 0), cost::kLethal) << "cleared by two scans";
+  l.update(open, kOrigin);
+  EXPECT_EQ(l.grid().at(10, 0), cost::kFree);
+}
+
 TEST(ObstacleLayerTest, DecayForgetsUnconfirmedObstacles) {
   ObstacleLayerConfig cfg;
   cfg.decay_s = 1.0;
