@@ -264,10 +264,15 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
     }
     // Boundary pixels, 8 columns at a time (all the cell row's pixel rows together).
     const bool rows_inside = vy >= 2 && vy + rows + 2 <= h_;
+    static_assert(std::has_single_bit(unsigned(kChunk)), "a chunk starts at a multiple of kChunk");
+    constexpr std::uint64_t kChunkMask = (std::uint64_t{1} << kChunk) - 1;
     for (int k = k0; k <= k1; ++k) {
-      for (int c = 0; c < 64; c += kChunk) {
-        const std::uint64_t bits = (band_px[k] >> c) & ((1U << kChunk) - 1);
-        if (bits == 0) continue;
+      // The chunks that hold band pixels, in order, found from the lowest set bit left: most of
+      // a word's chunks hold none (a tape's edge band is a few pixels wide).
+      for (std::uint64_t left = band_px[k]; left != 0;) {
+        const int c = std::countr_zero(left) & ~(kChunk - 1);
+        const std::uint64_t bits = (left >> c) & kChunkMask;
+        left &= ~(kChunkMask << c);
         const int u0 = 64 * k + c;
         if (rows_inside && u0 >= 2 && u0 + kChunk + 2 <= w_) {
           std::uint16_t px[kChunkRows][kChunkBytes];
