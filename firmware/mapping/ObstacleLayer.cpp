@@ -89,11 +89,7 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   // The same cells as the last ray of this scan: its walk already cleared them, and counted
   // this scan's miss on each lethal one (last_miss), so walking them again would change nothing.
   const LastRay ray{cx0, cy0, cx1, cy1, include_end, true};
-  if (last_ray_.valid && ray.cx0 == last_ray_.cx0 && ray.cy0 == last_ray_.cy0 &&
-      ray.cx1 == last_ray_.cx1 && ray.cy1 == last_ray_.cy1 &&
-      ray.include_end == last_ray_.include_end) {
-    return;
-  }
+  if (ray == last_ray_) return;  // equal only to a valid one
   last_ray_ = ray;
   std::uint8_t* cost = grid::storage_base(cost_);
   CellState* state = grid::storage_base(state_);

@@ -93,6 +93,7 @@ class ObstacleLayer {
   struct LastRay {
     int cx0 = 0, cy0 = 0, cx1 = 0, cy1 = 0;
     bool include_end = false, valid = false;
+    bool operator==(const LastRay&) const = default;
   };
   LastRay last_ray_;
   std::uint8_t scan_counter_ = 0;
