@@ -112,9 +112,13 @@ constexpr int kRecipShift = 38;
 // of nx x ny), and the step at which each happens is known in advance, so the walk runs in at
 // most three pieces with a linear storage index (+major stride every step, the minor steps in
 // closed form) and no wrap test per cell: the walk is the hot loop of lidar clearing.
+//
+// The first `skip` steps are not visited (a caller that knows those cells need nothing): the
+// cell of step k lies k cells from the start along the major axis and at most k along the
+// minor, so with every cell within Chebyshev distance R of the start known, skip = R + 1.
 template <typename Visit>
 void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool include_end,
-                     Visit&& visit) {
+                     Visit&& visit, int skip = 0) {
   const int adx = std::abs(dx), ady = std::abs(dy);
   const int sx = dx >= 0 ? 1 : -1, sy = dy >= 0 ? 1 : -1;
   // Major axis a, minor axis b: step a every time, b when the error crosses half a cell.
@@ -170,6 +174,13 @@ void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool incl
         ((std::uint64_t{1} << kRecipShift) + std::uint64_t(da) - 1) / std::uint64_t(da);
     std::uint64_t num = std::uint64_t(da - 1 - da / 2);
     in_pieces([&](int n) {
+      if (skip > 0) {  // steps taken without a visit, in this piece and maybe the next
+        const int k = std::min(n, skip);
+        i += stride_a * k;
+        num += std::uint64_t(db) * std::uint64_t(k);
+        skip -= k;
+        n -= k;
+      }
       for (; n > 0; --n) {
         const auto m = std::ptrdiff_t((num * recip) >> kRecipShift);
         visit(std::size_t(i + m * stride_b));
@@ -183,7 +194,11 @@ void trace_line_from(int col, int row, int dx, int dy, int nx, int ny, bool incl
   in_pieces([&](int n) {
     // A count down to zero: one instruction fewer per cell than comparing k with stop.
     for (; n > 0; --n) {
-      visit(std::size_t(i));
+      if (skip > 0) {
+        --skip;
+      } else {
+        visit(std::size_t(i));
+      }
       i += stride_a;
       err -= db;
       if (err < 0) {

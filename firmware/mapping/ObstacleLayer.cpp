@@ -99,22 +99,68 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   int col0 = col_off + (cx0 - lo_x), row0 = row_off + (cy0 - lo_y);
   if (col0 >= nx) col0 -= nx;
   if (row0 >= ny) row0 -= ny;
-  grid::trace_line_from(col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end, [&](std::size_t i) {
-    // Most cells on a ray are free already: a load and a compare, no store (a store would
-    // dirty every cache line the fan crosses). Lethal cells are rare.
-    const std::uint8_t v = cost[i];
-    if (v == cost::kFree) [[likely]]
-      return;
-    if (v != cost::kLethal) {
-      cost[i] = cost::kFree;
-      return;
+  const int skip = cx0 == free_cx_ && cy0 == free_cy_ ? free_skip_ : 0;
+  grid::trace_line_from(
+      col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end,
+      [&](std::size_t i) {
+        // Most cells on a ray are free already: a load and a compare, no store (a store would
+        // dirty every cache line the fan crosses). Lethal cells are rare.
+        const std::uint8_t v = cost[i];
+        if (v == cost::kFree) [[likely]]
+          return;
+        if (v != cost::kLethal) {
+          cost[i] = cost::kFree;
+          return;
+        }
+        CellState& s = state[i];
+        if (s.last_miss == scan) return;  // already counted in this scan
+        s.last_miss = scan;
+        if (s.misses_left > 0) --s.misses_left;
+        if (s.misses_left == 0) cost[i] = cost::kFree;
+      },
+      skip);
+}
+
+int ObstacleLayer::free_radius(int cx, int cy, int r_cap) const {
+  const int nx = cost_.nx(), ny = cost_.ny(), lo_x = cost_.origin_cx(), lo_y = cost_.origin_cy();
+  if (!cost_.contains(cx, cy)) return -1;
+  const std::uint8_t* cost = grid::storage_base(cost_);
+  // Storage column and row of global cell (x, y) inside the window.
+  const auto col_of = [&](int x) { return grid::wrap(cost_.column_offset() + (x - lo_x), nx); };
+  const auto row_of = [&](int y) { return grid::wrap(cost_.row_offset() + (y - lo_y), ny); };
+  // Cells x0..x0+len-1 of row y all free (the span may wrap round the storage row once).
+  const auto row_free = [&](int x0, int len, int y) {
+    const std::uint8_t* row = cost + std::size_t(row_of(y)) * std::size_t(nx);
+    const int c0 = col_of(x0), first = std::min(len, nx - c0);
+    std::uint8_t any = 0;
+    for (int k = 0; k < first; ++k) any |= row[c0 + k];
+    for (int k = 0; k < len - first; ++k) any |= row[k];
+    static_assert(cost::kFree == 0, "a span is free when its OR is 0");
+    return any == 0;
+  };
+  // Cells y0..y0+len-1 of column x all free.
+  const auto column_free = [&](int x, int y0, int len) {
+    const std::uint8_t* col = cost + col_of(x);
+    int r = row_of(y0);
+    std::uint8_t any = 0;
+    for (int k = 0; k < len; ++k) {
+      any |= col[std::size_t(r) * std::size_t(nx)];
+      if (++r == ny) r = 0;
     }
-    CellState& s = state[i];
-    if (s.last_miss == scan) return;  // already counted in this scan
-    s.last_miss = scan;
-    if (s.misses_left > 0) --s.misses_left;
-    if (s.misses_left == 0) cost[i] = cost::kFree;
-  });
+    return any == 0;
+  };
+  if (!row_free(cx, 1, cy)) return -1;
+  int r = 1;
+  for (; r <= r_cap; ++r) {
+    // Ring r: the rows r above and below (2r + 1 cells each), then the columns between them.
+    if (cx - r < lo_x || cx + r >= lo_x + nx || cy - r < lo_y || cy + r >= lo_y + ny) break;
+    if (!row_free(cx - r, 2 * r + 1, cy - r) || !row_free(cx - r, 2 * r + 1, cy + r) ||
+        !column_free(cx - r, cy - r + 1, 2 * r - 1) ||
+        !column_free(cx + r, cy - r + 1, 2 * r - 1)) {
+      break;
+    }
+  }
+  return r - 1;
 }
 
 ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose2& sensor_pose) {
@@ -142,6 +188,13 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   const double free_to = std::min(cfg_.raytrace_max_range_m, range_max);
   const double rmin = cfg_.raytrace_min_range_m;
   const int col_off = cost_.column_offset(), row_off = cost_.row_offset();
+  // Rays from the sensor (no minimum range) start in its cell; the cells round it that are free
+  // now need no walk. Rays never walk farther than the clearing range.
+  free_skip_ = 0;
+  if (rmin == 0.0 && cost_.world_to_cell(sensor_pose.x, sensor_pose.y, free_cx_, free_cy_)) {
+    const int r_cap = int(std::ceil(cfg_.raytrace_max_range_m / cost_.resolution())) + 1;
+    free_skip_ = free_radius(free_cx_, free_cy_, r_cap) + 1;
+  }
   int n_hits = 0;
   for (int b = 0; b < n; ++b) {
     const float rf = scan.ranges_m[std::size_t(b)];

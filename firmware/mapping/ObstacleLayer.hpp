@@ -75,6 +75,9 @@ class ObstacleLayer {
   void clear_ray(double x0, double y0, double x1, double y1, bool keep_end, int col_off,
                  int row_off);
   void decay(std::uint16_t now_ds);
+  // The largest R (at most r_cap) such that every cell within Chebyshev distance R of the
+  // global cell (cx, cy) lies in the window and is free; -1 when (cx, cy) itself is not [cells].
+  int free_radius(int cx, int cy, int r_cap) const;
 
   ObstacleLayerConfig cfg_;
   RollingGrid<std::uint8_t> cost_;
@@ -96,6 +99,10 @@ class ObstacleLayer {
     bool operator==(const LastRay&) const = default;
   };
   LastRay last_ray_;
+  // This scan's sensor cell [cells] and the steps a ray from it walks through cells that were
+  // free as the scan began (free_radius + 1). Clearing only frees cells and marking comes after
+  // it, so those steps would change nothing: rays from that cell skip them.
+  int free_cx_ = 0, free_cy_ = 0, free_skip_ = 0;
   std::uint8_t scan_counter_ = 0;
   std::uint16_t last_decay_ds_ = 0;
   bool decayed_once_ = false;

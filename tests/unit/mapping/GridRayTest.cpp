@@ -159,6 +159,49 @@ TEST(GridRayTest, PiecewiseWalkVisitsTheReferenceCellsInOrder) {
   EXPECT_EQ(rays, 2 * 4000 * int(std::size(windows)));
 }
 
+// A walk told to skip its first s steps visits the reference cells from the (s+1)-th on, in
+// order, across storage wraps (the skip may end in any of the walk's pieces) and when s is as
+// long as the ray or longer.
+TEST(GridRayTest, SkippedStepsLeaveOutExactlyTheFirstCells) {
+  struct Window {
+    int nx, ny, ox, oy;
+  };
+  // The last window has rays longer than the closed-form walk takes.
+  const Window windows[] = {
+      {16, 12, -20, 5}, {240, 240, 1234, -517}, {7, 9, 3, -4}, {33, 17, 0, 0}, {5000, 40, 3, -9}};
+  std::mt19937 rng(7);
+  int rays = 0, skipped_into_a_later_piece = 0;
+  for (const Window& w : windows) {
+    std::uniform_int_distribution<int> px(w.ox, w.ox + w.nx - 1), py(w.oy, w.oy + w.ny - 1);
+    for (int r = 0; r < 3000; ++r) {
+      const int x0 = px(rng), y0 = py(rng), x1 = px(rng), y1 = py(rng);
+      const bool include_end = r % 2 == 0;
+      const auto want = reference_trace(x0, y0, x1, y1, w.nx, w.ny, include_end);
+      const int n = int(want.size());
+      const int skip = std::uniform_int_distribution<int>(0, n + 2)(rng);
+      std::vector<std::size_t> got;
+      grid::trace_line_from(
+          grid::wrap(x0, w.nx), grid::wrap(y0, w.ny), x1 - x0, y1 - y0, w.nx, w.ny, include_end,
+          [&](std::size_t i) { got.push_back(i); }, skip);
+      const std::vector<std::size_t> tail(want.begin() + std::min(skip, n), want.end());
+      ASSERT_EQ(got, tail) << "window " << w.nx << "x" << w.ny << ", ray (" << x0 << ", " << y0
+                           << ") -> (" << x1 << ", " << y1 << "), skip " << skip;
+      // The skip crossed a storage wrap: a cell it left out and the first one visited are
+      // not one major step apart in storage.
+      if (skip > 0 && skip < n) {
+        const auto col = [&](std::size_t i) { return int(i % std::size_t(w.nx)); };
+        const auto row = [&](std::size_t i) { return int(i / std::size_t(w.nx)); };
+        const int dc = std::abs(col(want[0]) - col(want[std::size_t(skip)]));
+        const int dr = std::abs(row(want[0]) - row(want[std::size_t(skip)]));
+        if (std::max(dc, dr) != skip) ++skipped_into_a_later_piece;
+      }
+      ++rays;
+    }
+  }
+  EXPECT_EQ(rays, 5 * 3000);
+  EXPECT_GT(skipped_into_a_later_piece, 500);
+}
+
 TEST(GridRayTest, ClosedFormWalkMatchesTheReferenceForEveryLengthItTakes) {
   // Every major-axis length up to grid::kClosedFormMaxSteps and one past it, with minor lengths
   // from flat to diagonal, in all four directions: the reciprocal that replaces the division

@@ -153,6 +153,38 @@ TEST(ObstacleLayerTest, TheSameBeamEveryScanCountsAMissEveryScan) {
   EXPECT_EQ(l.grid().at(10, 0), cost::kFree);
 }
 
+// Rays from the sensor skip the cells round it that were free as the scan began (ObstacleLayer::
+// free_radius). An obstacle at the edge of that free square must still be crossed: a lethal cell
+// at Chebyshev distance 1 to 30 from the sensor, in eight directions, inside a cleared disc, is
+// cleared by one open scan (clear_scans 1). One step skipped too many leaves it lethal.
+TEST(ObstacleLayerTest, RaysStillCrossAnObstacleAtTheEdgeOfTheFreeSquareRoundTheSensor) {
+  ObstacleLayerConfig cfg;
+  cfg.clear_scans = 1;
+  cfg.raytrace_max_range_m = 6.0;
+  const hal::LaserScan open = make_scan(2000, -kPi, 2.0 * kPi / 2000.0, kInf);
+  int checked = 0;
+  for (const int d : {1, 2, 3, 7, 10, 30}) {
+    for (int dir = 0; dir < 8; ++dir) {
+      ObstacleLayer l = make_layer(cfg);
+      l.update(open, kOrigin);
+      // The disc within 4 m is free: the free square round the sensor is as large as it gets.
+      for (int cx = -28; cx <= 28; ++cx) {
+        for (int cy = -28; cy <= 28; ++cy) ASSERT_EQ(l.grid().at(cx, cy), cost::kFree);
+      }
+      // A hit d cells away along an axis or a diagonal marks that cell.
+      const double a = dir * 45.0 * kDeg;
+      const double r = (dir % 2 == 0 ? d : d * std::sqrt(2.0)) * kRes;
+      l.update(make_scan(1, a, 0.0, float(r)), kOrigin);
+      const int cx = int(std::lround(std::cos(a))) * d, cy = int(std::lround(std::sin(a))) * d;
+      ASSERT_EQ(l.grid().at(cx, cy), cost::kLethal) << "d " << d << " dir " << dir;
+      l.update(open, kOrigin);
+      EXPECT_EQ(l.grid().at(cx, cy), cost::kFree) << "not crossed: d " << d << " dir " << dir;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 48);
+}
+
 TEST(ObstacleLayerTest, DecayForgetsUnconfirmedObstacles) {
   ObstacleLayerConfig cfg;
   cfg.decay_s = 1.0;
