@@ -191,7 +191,8 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   // Rays from the sensor (no minimum range) start in its cell; the cells round it that are free
   // now need no walk. Rays never walk farther than the clearing range.
   free_skip_ = 0;
-  if (rmin == 0.0 && cost_.world_to_cell(sensor_pose.x, sensor_pose.y, free_cx_, free_cy_)) {
+  if (rmin == 0.0 && !walk_every_cell_ &&
+      cost_.world_to_cell(sensor_pose.x, sensor_pose.y, free_cx_, free_cy_)) {
     const int r_cap = int(std::ceil(cfg_.raytrace_max_range_m / cost_.resolution())) + 1;
     free_skip_ = free_radius(free_cx_, free_cy_, r_cap) + 1;
   }

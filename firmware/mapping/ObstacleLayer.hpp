@@ -61,6 +61,11 @@ class ObstacleLayer {
   // Forgets everything (all unknown).
   void clear();
 
+  // Test reference: rays from the sensor walk every cell, not skipping the free square round it.
+  void walk_every_cell(bool on) { walk_every_cell_ = on; }
+  // Steps the last scan's rays from the sensor did not walk (the free square round it) [cells].
+  int skipped_steps() const { return free_skip_; }
+
   // kUnknown / kFree / kLethal per cell.
   const RollingGrid<std::uint8_t>& grid() const { return cost_; }
   const ObstacleLayerConfig& config() const { return cfg_; }
@@ -103,6 +108,7 @@ class ObstacleLayer {
   // free as the scan began (free_radius + 1). Clearing only frees cells and marking comes after
   // it, so those steps would change nothing: rays from that cell skip them.
   int free_cx_ = 0, free_cy_ = 0, free_skip_ = 0;
+  bool walk_every_cell_ = false;
   std::uint8_t scan_counter_ = 0;
   std::uint16_t last_decay_ds_ = 0;
   bool decayed_once_ = false;

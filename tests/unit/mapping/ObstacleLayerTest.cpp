@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "firmware/mapping/CostValues.hpp"
@@ -183,6 +184,60 @@ TEST(ObstacleLayerTest, RaysStillCrossAnObstacleAtTheEdgeOfTheFreeSquareRoundThe
     }
   }
   EXPECT_EQ(checked, 48);
+}
+
+// The free-square skip against the walk of every cell, on random scans: a robot driving and
+// turning among random obstacles, its scans with random returns, +inf, NaN and short ranges, the
+// window moving with it. Both layers must hold the same cells after every scan.
+TEST(ObstacleLayerTest, SkippingTheFreeSquareGivesWhatWalkingEveryCellGives) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int scans = 0, skipped_far = 0;  // scans whose rays skipped 5 steps or more
+  for (int world = 0; world < 6; ++world) {
+    ObstacleLayerConfig cfg;
+    cfg.clear_scans = 1 + world % 3;
+    cfg.raytrace_max_range_m = world % 2 == 0 ? 6.0 : 3.0;
+    ObstacleLayer fast = make_layer(cfg), ref = make_layer(cfg);
+    ref.walk_every_cell(true);
+    Pose2 pose{u(rng), u(rng), u(rng) * 2.0 * kPi};
+    for (int k = 0; k < 60; ++k) {
+      // A 360 deg scanner in half the worlds, 270 deg (blind behind) in the others.
+      const int n = world < 3 ? 720 : 541;
+      const double start = world < 3 ? -kPi : -135 * kDeg;
+      hal::LaserScan s = make_scan(n, start, 0.5 * kDeg, kInf, std::int64_t(k) * 50'000'000);
+      // Obstacles at random bearings and ranges, the rest open; some garbage.
+      for (int b = 0; b < n; ++b) {
+        const double p = u(rng);
+        if (p < 0.3) s.ranges_m[std::size_t(b)] = float(0.8 + 6.0 * u(rng));
+        if (p > 0.99) s.ranges_m[std::size_t(b)] = std::numeric_limits<float>::quiet_NaN();
+      }
+      // A run of beams on one obstacle, now and then a few cells from the sensor.
+      const int b0 = int(u(rng) * n), len = int(u(rng) * 60);
+      const float wall = float((k % 4 == 0 ? 0.15 : 0.6) + 1.5 * u(rng));
+      for (int b = b0; b < std::min(n, b0 + len); ++b) s.ranges_m[std::size_t(b)] = wall;
+      fast.update(s, pose);
+      ref.update(s, pose);
+      for (int cy = fast.grid().origin_cy(); cy < fast.grid().origin_cy() + 160; ++cy) {
+        for (int cx = fast.grid().origin_cx(); cx < fast.grid().origin_cx() + 160; ++cx) {
+          ASSERT_EQ(fast.grid().at(cx, cy), ref.grid().at(cx, cy))
+              << "world " << world << " scan " << k << " cell (" << cx << ", " << cy << ")";
+        }
+      }
+      ++scans;
+      // Drive on: 0.1 to 0.3 m, turning, the window following now and then.
+      const double step = 0.1 + 0.2 * u(rng);
+      pose = {pose.x + step * std::cos(pose.yaw), pose.y + step * std::sin(pose.yaw),
+              pose.yaw + (u(rng) - 0.5)};
+      if (k % 7 == 0) {
+        fast.recenter(pose.x, pose.y);
+        ref.recenter(pose.x, pose.y);
+      }
+      if (fast.skipped_steps() >= 5) ++skipped_far;
+      EXPECT_EQ(ref.skipped_steps(), 0);
+    }
+  }
+  EXPECT_EQ(scans, 360);
+  EXPECT_GT(skipped_far, 100) << "the free square was rarely 5 cells or more";
 }
 
 TEST(ObstacleLayerTest, DecayForgetsUnconfirmedObstacles) {
