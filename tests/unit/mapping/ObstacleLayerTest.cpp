@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -154,10 +155,11 @@ TEST(ObstacleLayerTest, TheSameBeamEveryScanCountsAMissEveryScan) {
   EXPECT_EQ(l.grid().at(10, 0), cost::kFree);
 }
 
-// Rays from the sensor skip the cells round it that were free as the scan began (ObstacleLayer::
-// free_radius). An obstacle at the edge of that free square must still be crossed: a lethal cell
-// at Chebyshev distance 1 to 30 from the sensor, in eight directions, inside a cleared disc, is
-// cleared by one open scan (clear_scans 1). One step skipped too many leaves it lethal.
+// Rays from the sensor skip the cells of the square round it that were free as the scan began
+// (ObstacleLayer::free_radius). An obstacle at the edge of that square must still be crossed: a
+// lethal cell 1 to 30 cells from the sensor, on the axes, the diagonals and between them in
+// every octant, inside a cleared disc, is cleared by one open scan (clear_scans 1). One step
+// skipped too many leaves it lethal.
 TEST(ObstacleLayerTest, RaysStillCrossAnObstacleAtTheEdgeOfTheFreeSquareRoundTheSensor) {
   ObstacleLayerConfig cfg;
   cfg.clear_scans = 1;
@@ -165,25 +167,31 @@ TEST(ObstacleLayerTest, RaysStillCrossAnObstacleAtTheEdgeOfTheFreeSquareRoundThe
   const hal::LaserScan open = make_scan(2000, -kPi, 2.0 * kPi / 2000.0, kInf);
   int checked = 0;
   for (const int d : {1, 2, 3, 7, 10, 30}) {
-    for (int dir = 0; dir < 8; ++dir) {
-      ObstacleLayer l = make_layer(cfg);
-      l.update(open, kOrigin);
-      // The disc within 4 m is free: the free square round the sensor is as large as it gets.
-      for (int cx = -28; cx <= 28; ++cx) {
-        for (int cy = -28; cy <= 28; ++cy) ASSERT_EQ(l.grid().at(cx, cy), cost::kFree);
+    // (major, minor) offsets, then every sign and both axes as the major one.
+    const int offsets[][2] = {{d, 0}, {d, d}, {d, d / 2}, {d, 1}, {d, d - 1}};
+    for (const auto& off : offsets) {
+      for (int o = 0; o < 8; ++o) {
+        const int sa = (o & 1) != 0 ? -1 : 1, sb = (o & 2) != 0 ? -1 : 1;
+        const int cx = o >= 4 ? sa * off[0] : sb * off[1];
+        const int cy = o >= 4 ? sb * off[1] : sa * off[0];
+        ObstacleLayer l = make_layer(cfg);
+        l.update(open, kOrigin);
+        // The disc within 4 m is free: the free square round the sensor is as large as it gets.
+        for (int x = -28; x <= 28; ++x) {
+          for (int y = -28; y <= 28; ++y) ASSERT_EQ(l.grid().at(x, y), cost::kFree);
+        }
+        // A hit at the centre of cell (cx, cy) marks it.
+        const double a = std::atan2(double(cy), double(cx));
+        const double r = std::hypot(double(cx), double(cy)) * kRes;
+        l.update(make_scan(1, a, 0.0, float(r)), kOrigin);
+        ASSERT_EQ(l.grid().at(cx, cy), cost::kLethal) << "cell (" << cx << ", " << cy << ")";
+        l.update(open, kOrigin);
+        EXPECT_EQ(l.grid().at(cx, cy), cost::kFree) << "not crossed: (" << cx << ", " << cy << ")";
+        ++checked;
       }
-      // A hit d cells away along an axis or a diagonal marks that cell.
-      const double a = dir * 45.0 * kDeg;
-      const double r = (dir % 2 == 0 ? d : d * std::sqrt(2.0)) * kRes;
-      l.update(make_scan(1, a, 0.0, float(r)), kOrigin);
-      const int cx = int(std::lround(std::cos(a))) * d, cy = int(std::lround(std::sin(a))) * d;
-      ASSERT_EQ(l.grid().at(cx, cy), cost::kLethal) << "d " << d << " dir " << dir;
-      l.update(open, kOrigin);
-      EXPECT_EQ(l.grid().at(cx, cy), cost::kFree) << "not crossed: d " << d << " dir " << dir;
-      ++checked;
     }
   }
-  EXPECT_EQ(checked, 48);
+  EXPECT_EQ(checked, 6 * 5 * 8);
 }
 
 // The free-square skip against the walk of every cell, on random scans: a robot driving and
@@ -193,7 +201,7 @@ TEST(ObstacleLayerTest, SkippingTheFreeSquareGivesWhatWalkingEveryCellGives) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int scans = 0, skipped_far = 0;  // scans whose rays skipped 5 steps or more
-  for (int world = 0; world < 6; ++world) {
+  for (int world = 0; world < 16; ++world) {
     ObstacleLayerConfig cfg;
     cfg.clear_scans = 1 + world % 3;
     cfg.raytrace_max_range_m = world % 2 == 0 ? 6.0 : 3.0;
@@ -202,8 +210,8 @@ TEST(ObstacleLayerTest, SkippingTheFreeSquareGivesWhatWalkingEveryCellGives) {
     Pose2 pose{u(rng), u(rng), u(rng) * 2.0 * kPi};
     for (int k = 0; k < 60; ++k) {
       // A 360 deg scanner in half the worlds, 270 deg (blind behind) in the others.
-      const int n = world < 3 ? 720 : 541;
-      const double start = world < 3 ? -kPi : -135 * kDeg;
+      const int n = world % 4 < 2 ? 720 : 541;
+      const double start = world % 4 < 2 ? -kPi : -135 * kDeg;
       hal::LaserScan s = make_scan(n, start, 0.5 * kDeg, kInf, std::int64_t(k) * 50'000'000);
       // Obstacles at random bearings and ranges, the rest open; some garbage.
       for (int b = 0; b < n; ++b) {
@@ -236,7 +244,7 @@ TEST(ObstacleLayerTest, SkippingTheFreeSquareGivesWhatWalkingEveryCellGives) {
       EXPECT_EQ(ref.skipped_steps(), 0);
     }
   }
-  EXPECT_EQ(scans, 360);
+  EXPECT_EQ(scans, 16 * 60);
   EXPECT_GT(skipped_far, 100) << "the free square was rarely 5 cells or more";
 }
 
