@@ -166,6 +166,7 @@ int ObstacleLayer::free_radius(int cx, int cy, int r_cap) const {
 ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose2& sensor_pose) {
   ObstacleUpdateStats st;
   const int n = std::min<int>(scan.count, hal::kMaxScanBeams);
+  free_skip_ = 0;  // until this scan's free square is known
   if (!cost_.ready() || !std::isfinite(sensor_pose.x) || !std::isfinite(sensor_pose.y) ||
       !std::isfinite(sensor_pose.yaw) || !finite_bits(scan.angle_min_rad) ||
       !finite_bits(scan.angle_increment_rad)) {
@@ -190,7 +191,6 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   const int col_off = cost_.column_offset(), row_off = cost_.row_offset();
   // Rays from the sensor (no minimum range) start in its cell; the cells round it that are free
   // now need no walk. Rays never walk farther than the clearing range.
-  free_skip_ = 0;
   if (rmin == 0.0 && !walk_every_cell_ &&
       cost_.world_to_cell(sensor_pose.x, sensor_pose.y, free_cx_, free_cy_)) {
     const int r_cap = int(std::ceil(cfg_.raytrace_max_range_m / cost_.resolution())) + 1;
