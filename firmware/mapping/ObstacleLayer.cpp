@@ -124,6 +124,8 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
 int ObstacleLayer::free_radius(int cx, int cy, int r_cap) const {
   const int nx = cost_.nx(), ny = cost_.ny(), lo_x = cost_.origin_cx(), lo_y = cost_.origin_cy();
   if (!cost_.contains(cx, cy)) return -1;
+  // No ring past the window's nearest edge.
+  r_cap = std::min({r_cap, cx - lo_x, lo_x + nx - 1 - cx, cy - lo_y, lo_y + ny - 1 - cy});
   const std::uint8_t* cost = grid::storage_base(cost_);
   // Storage column and row of global cell (x, y) inside the window.
   const auto col_of = [&](int x) { return grid::wrap(cost_.column_offset() + (x - lo_x), nx); };
@@ -153,7 +155,6 @@ int ObstacleLayer::free_radius(int cx, int cy, int r_cap) const {
   int r = 1;
   for (; r <= r_cap; ++r) {
     // Ring r: the rows r above and below (2r + 1 cells each), then the columns between them.
-    if (cx - r < lo_x || cx + r >= lo_x + nx || cy - r < lo_y || cy + r >= lo_y + ny) break;
     if (!row_free(cx - r, 2 * r + 1, cy - r) || !row_free(cx - r, 2 * r + 1, cy + r) ||
         !column_free(cx - r, cy - r + 1, 2 * r - 1) ||
         !column_free(cx + r, cy - r + 1, 2 * r - 1)) {
