@@ -64,8 +64,10 @@ void morph5_window(std::uint64_t* m, std::uint64_t* tmp, int s, int width, int h
   }
 }
 
-// Each of the 32 low bits doubled: bit i to bits 2i and 2i + 1.
-std::uint64_t spread2(std::uint64_t v) {
+using U64x2 = std::uint64_t __attribute__((vector_size(16)));
+
+// In each lane, each of the 32 low bits doubled: bit i to bits 2i and 2i + 1.
+U64x2 spread2(U64x2 v) {
   v &= 0xFFFFFFFFULL;
   v = (v | (v << 16)) & 0x0000FFFF0000FFFFULL;
   v = (v | (v << 8)) & 0x00FF00FF00FF00FFULL;
@@ -75,18 +77,24 @@ std::uint64_t spread2(std::uint64_t v) {
   return v | (v << 1);
 }
 
-// Words k0..k1 of a row of pixels from a row of cells (cs words): each cell is d pixels wide.
-void upsample(const std::uint64_t* c, int cs, std::uint64_t* p, int k0, int k1, int d) {
+// Words k0..k1 of two rows of pixels (pa, pb) from two rows of cells (a, b; cs words each): each
+// cell is d pixels wide. The two rows go through the bit spreading together, one per lane.
+void upsample(const std::uint64_t* a, const std::uint64_t* b, int cs, std::uint64_t* pa,
+              std::uint64_t* pb, int k0, int k1, int d) {
+  const int log2_d = d == 1 ? 0 : (d == 2 ? 1 : 2);  // d is 1, 2 or 4
   for (int k = k0; k <= k1; ++k) {
-    const int ck = k / d;
-    const std::uint64_t w = ck < cs ? c[ck] : 0;
+    const int ck = k >> log2_d;
+    const U64x2 w = ck < cs ? U64x2{a[ck], b[ck]} : U64x2{0, 0};
+    U64x2 p;
     if (d == 1) {
-      p[k] = w;
+      p = w;
     } else if (d == 2) {
-      p[k] = spread2(w >> (32 * (k & 1)));
+      p = spread2(w >> (32 * (k & 1)));
     } else {
-      p[k] = spread2(spread2((w >> (16 * (k & 3))) & 0xFFFF));
+      p = spread2(spread2((w >> (16 * (k & 3))) & 0xFFFF));
     }
+    pa[k] = p[0];
+    pb[k] = p[1];
   }
 }
 
@@ -255,8 +263,7 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
       solid[k] = er[0][k] & er[1][k] & er[2][k] & valid;
       band[k] = (di[0][k] | di[1][k] | di[2][k]) & valid & ~solid[k];
     }
-    upsample(solid, cs, solid_px, k0, k1, d_);
-    upsample(band, cs, band_px, k0, k1, d_);
+    upsample(solid, band, cs, solid_px, band_px, k0, k1, d_);
     const int vy = d_ * y, rows = vy + d_ <= h_ ? d_ : h_ - vy;
     for (int j = 0; j < rows; ++j) {
       std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;
