@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host_sim/scenario/HypotScreen.hpp"
+
 namespace carril::sim {
 namespace {
 
@@ -54,6 +56,7 @@ PathPoint ReferencePath::nearest(Vec2 q) const {
     const double dx = b.x - a.x, dy = b.y - a.y;
     const double t = std::clamp(((q.x - a.x) * dx + (q.y - a.y) * dy) / (seg * seg), 0.0, 1.0);
     const Vec2 p{a.x + t * dx, a.y + t * dy};
+    if (!hypot_may_be_below(q.x - p.x, q.y - p.y, best.dist_m)) continue;
     const double d = dist(q, p);
     if (d < best.dist_m) best = PathPoint{cum_[i] + t * seg, d, p};
   }

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace carril::sim {
 namespace {
@@ -49,6 +51,66 @@ TEST(ReferencePathTest, NearestPointAndDistance) {
   n = p.nearest({-1.0, 0.0});  // beyond the start: the end point
   EXPECT_NEAR(n.s_m, 0.0, 1e-12);
   EXPECT_NEAR(n.dist_m, 1.0, 1e-12);
+}
+
+// nearest() as it was before squared distances screened the segments: hypot for every one.
+PathPoint nearest_by_hypot(const ReferencePath& path, Vec2 q) {
+  const std::vector<Vec2>& pts = path.points();
+  PathPoint best{0.0, std::hypot(q.x - pts.front().x, q.y - pts.front().y), pts.front()};
+  double cum = 0.0;  // arc length at point i, summed as the path sums it
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Vec2 a = pts[i], b = pts[i + 1];
+    const double next = cum + std::hypot(b.x - a.x, b.y - a.y), seg = next - cum;
+    if (seg > 0.0) {
+      const double dx = b.x - a.x, dy = b.y - a.y;
+      const double t = std::clamp(((q.x - a.x) * dx + (q.y - a.y) * dy) / (seg * seg), 0.0, 1.0);
+      const Vec2 p{a.x + t * dx, a.y + t * dy};
+      const double d = std::hypot(q.x - p.x, q.y - p.y);
+      if (d < best.dist_m) best = PathPoint{cum + t * seg, d, p};
+    }
+    cum = next;
+  }
+  if (path.closed() && best.s_m >= path.length_m()) best.s_m -= path.length_m();
+  return best;
+}
+
+// The screening changes nothing, ties included: circles of many short segments queried at their
+// centre (every segment about as far), on the path, near it and far off, and random zigzags.
+TEST(ReferencePathTest, NearestEqualsTakingHypotOfEverySegmentToTheBit) {
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int queries = 0;
+  for (int shape = 0; shape < 40; ++shape) {
+    std::vector<Vec2> pts;
+    const double cx = 10.0 * u(rng), cy = 10.0 * u(rng), r = 0.5 + 4.0 * std::abs(u(rng));
+    if (shape % 2 == 0) {
+      const int n = 8 + shape * 9;  // 8 to 359 segments round a circle, closed
+      for (int k = 0; k <= n; ++k) {
+        const double a = 2.0 * M_PI * k / n;
+        pts.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
+      }
+      pts.back() = pts.front();
+    } else {
+      for (int k = 0; k < 4 + shape; ++k) pts.push_back({cx + k * 0.3, cy + r * u(rng)});
+    }
+    const ReferencePath path(with_lines({line(kWhite, pts)}));
+    ASSERT_FALSE(path.empty());
+    std::vector<Vec2> qs = {{cx, cy}, pts[1], {pts[1].x + 1e-9, pts[1].y}};
+    for (int k = 0; k < 200; ++k) {
+      const double spread = k < 100 ? 0.05 : 20.0;
+      const Vec2 p = pts[std::size_t(k) % pts.size()];
+      qs.push_back({p.x + spread * u(rng), p.y + spread * u(rng)});
+    }
+    for (const Vec2& q : qs) {
+      const PathPoint a = path.nearest(q), b = nearest_by_hypot(path, q);
+      ASSERT_EQ(a.dist_m, b.dist_m) << "shape " << shape << " query " << q.x << " " << q.y;
+      ASSERT_EQ(a.s_m, b.s_m) << "shape " << shape << " query " << q.x << " " << q.y;
+      ASSERT_EQ(a.p.x, b.p.x);
+      ASSERT_EQ(a.p.y, b.p.y);
+      ++queries;
+    }
+  }
+  EXPECT_EQ(queries, 40 * 203);
 }
 
 TEST(ReferencePathTest, NearestInWindow) {
