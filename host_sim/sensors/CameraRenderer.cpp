@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "host_sim/scenario/ColorCheck.hpp"
+#include "host_sim/scenario/HypotScreen.hpp"
 #include "host_sim/sensors/ConvexFill.hpp"
 #include "host_sim/sensors/Normal.hpp"
 #include "host_sim/sensors/SaturatingAdd.hpp"
@@ -247,8 +248,14 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
     draw_texture(pose, img);
   }
   for (const Poly& poly : polys_) {
-    if (std::hypot(poly.cx - cam_wx, poly.cy - cam_wy) > view_radius_m_ + poly.r) continue;
-    draw(poly.pts, poly.color, pose, img);
+    if (!hypot_at_most(poly.cx - cam_wx, poly.cy - cam_wy, view_radius_m_ + poly.r)) continue;
+    if (!reference_) {
+      // A polygon wholly outside one of the image's floor half-planes sets no pixel (as for the
+      // speckles); the reference path draws it and the tests compare the two.
+      const double dx = poly.cx - pose.x, dy = poly.cy - pose.y;
+      if (!may_show(co * dx + si * dy, -si * dx + co * dy, poly.r)) continue;
+    }
+    draw(poly.pts, poly.color, pose, co, si, img);
   }
 
   // Exposure went into the colours drawn (draw()); the glare goes on top.
@@ -376,7 +383,7 @@ void CameraRenderer::draw_texture(const Pose2& pose, cv::Mat& img) {
       if (!may_show(r.x, r.y, half * kSpeckleRadius)) continue;
       speckle_quad(h, c.x, c.y);
       const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
-      draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
+      draw(speckle_, floor_shade(scenario_.floor, f), pose, co, si, img);
     }
   }
 }
@@ -393,15 +400,14 @@ void CameraRenderer::draw_texture_reference(const Pose2& pose, cv::Mat& img) {
       // Shade away from the floor's own: 0.85..0.95 or 1.05..1.15 at the default speckle.
       const double f = speckle_shade(scenario_.floor_speckle, unit(h, 48));
       speckle_quad(h, c.x, c.y);
-      draw(speckle_, floor_shade(scenario_.floor, f), pose, img);
+      draw(speckle_, floor_shade(scenario_.floor, f), pose, co, si, img);
     }
   }
 }
 
-void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose,
-                          cv::Mat& img) {
+void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, double co,
+                          double si, cv::Mat& img) {
   const CameraSpec& cs = scenario_.robot.camera;
-  const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
   // World floor points -> camera frame.
   in_.clear();
   for (const Vec2& w : pts) {

@@ -44,7 +44,8 @@ class CameraRenderer {
   // A stretch of tape along `pts` (quads with round joins where it turns).
   void add_tape(const std::vector<Vec2>& pts, double width_m, Rgb color);
   // Projects the world floor polygon `pts` seen from `pose` and fills it; scratch vectors reused.
-  void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, cv::Mat& img);
+  void draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& pose, double co, double si,
+            cv::Mat& img);
   // The floor texture: the cells that may show, in world order; speckles that cannot show skipped.
   void draw_texture(const Pose2& pose, cv::Mat& img);
   // The plain texture walk (every cell of the world box round the visible floor), for tests.
