@@ -47,19 +47,32 @@ ReferencePath::ReferencePath(const Scenario& scenario) {
 
 PathPoint ReferencePath::nearest(Vec2 q) const {
   if (empty()) return PathPoint{0.0, 0.0, q};
+  // The first minimum over the start point, then the segments in order: the earliest segment
+  // wins a tie, and the start point (index -1) wins a tie with segment 0's start. The hint is
+  // tried first and the rest screened against the best so far, so ties are settled by index.
   PathPoint best{0.0, 0.0, pts_.front()};
   best.dist_m = dist(q, pts_.front());
-  for (std::size_t i = 0; i + 1 < pts_.size(); ++i) {
+  std::ptrdiff_t best_i = -1;
+  const auto consider = [&](std::size_t i) {
     const Vec2 a = pts_[i], b = pts_[i + 1];
     const double seg = cum_[i + 1] - cum_[i];
-    if (!(seg > 0.0)) continue;
+    if (!(seg > 0.0)) return;
     const double dx = b.x - a.x, dy = b.y - a.y;
     const double t = std::clamp(((q.x - a.x) * dx + (q.y - a.y) * dy) / (seg * seg), 0.0, 1.0);
     const Vec2 p{a.x + t * dx, a.y + t * dy};
-    if (!hypot_may_be_below(q.x - p.x, q.y - p.y, best.dist_m)) continue;
+    if (!hypot_may_be_below_or_at(q.x - p.x, q.y - p.y, best.dist_m)) return;
     const double d = dist(q, p);
-    if (d < best.dist_m) best = PathPoint{cum_[i] + t * seg, d, p};
+    if (d < best.dist_m || (d == best.dist_m && std::ptrdiff_t(i) < best_i)) {
+      best = PathPoint{cum_[i] + t * seg, d, p};
+      best_i = std::ptrdiff_t(i);
+    }
+  };
+  const std::size_t segments = pts_.size() - 1;
+  if (hint_ < segments) consider(hint_);
+  for (std::size_t i = 0; i < segments; ++i) {
+    if (i != hint_) consider(i);
   }
+  if (best_i >= 0) hint_ = std::size_t(best_i);
   if (closed_ && best.s_m >= length_m()) best.s_m -= length_m();
   return best;
 }
@@ -87,6 +100,7 @@ PathPoint ReferencePath::nearest_in(Vec2 q, double s_from, double s_to) const {
       const double t =
           std::clamp(((q.x - pa.x) * dx + (q.y - pa.y) * dy) / (seg * seg), t_lo, t_hi);
       const Vec2 p{pa.x + t * dx, pa.y + t * dy};
+      if (found && !hypot_may_be_below_or_at(q.x - p.x, q.y - p.y, best.dist_m)) continue;
       const double d = dist(q, p);
       if (!found || d < best.dist_m) {
         best = PathPoint{cum_[i] + t * seg, d, p};

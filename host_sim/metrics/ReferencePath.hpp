@@ -35,6 +35,9 @@ class ReferencePath {
   std::vector<Vec2> pts_;
   std::vector<double> cum_;  // cumulative arc length at each point
   bool closed_ = false;
+  // The segment nearest() found last: tried first next time, so the squared-distance screen
+  // passes few of the others (consecutive queries are usually near each other).
+  mutable std::size_t hint_ = 0;
 };
 
 }  // namespace carril::sim

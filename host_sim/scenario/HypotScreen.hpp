@@ -15,8 +15,8 @@ inline bool fits(double dx, double dy, double d) {
 }
 }  // namespace hypot_screen
 
-// False only where std::hypot(dx, dy) < d is certainly false.
-inline bool hypot_may_be_below(double dx, double dy, double d) {
+// False only where std::hypot(dx, dy) <= d is certainly false.
+inline bool hypot_may_be_below_or_at(double dx, double dy, double d) {
   return !hypot_screen::fits(dx, dy, d) || dx * dx + dy * dy <= d * d * (1.0 + 1e-12);
 }
 

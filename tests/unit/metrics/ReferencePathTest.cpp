@@ -74,8 +74,57 @@ PathPoint nearest_by_hypot(const ReferencePath& path, Vec2 q) {
   return best;
 }
 
+// nearest_in() as it was before the screen: hypot for every segment in the window.
+PathPoint nearest_in_by_hypot(const ReferencePath& path, Vec2 q, double s_from, double s_to) {
+  const std::vector<Vec2>& pts = path.points();
+  std::vector<double> cum = {0.0};
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    cum.push_back(cum.back() + std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y));
+  const double len = path.length_m();
+  PathPoint best;
+  bool found = false;
+  const auto search = [&](double a, double b) {
+    std::size_t i = std::size_t(std::lower_bound(cum.begin(), cum.end(), a) - cum.begin());
+    if (i > 0) --i;
+    for (; i + 1 < pts.size() && cum[i] <= b; ++i) {
+      const double seg = cum[i + 1] - cum[i];
+      if (!(seg > 0.0)) continue;
+      const double dx = pts[i + 1].x - pts[i].x, dy = pts[i + 1].y - pts[i].y;
+      const double t_lo = std::clamp((a - cum[i]) / seg, 0.0, 1.0);
+      const double t_hi = std::clamp((b - cum[i]) / seg, 0.0, 1.0);
+      if (t_lo > t_hi) continue;
+      const double t =
+          std::clamp(((q.x - pts[i].x) * dx + (q.y - pts[i].y) * dy) / (seg * seg), t_lo, t_hi);
+      const Vec2 p{pts[i].x + t * dx, pts[i].y + t * dy};
+      const double d = std::hypot(q.x - p.x, q.y - p.y);
+      if (!found || d < best.dist_m) {
+        best = PathPoint{cum[i] + t * seg, d, p};
+        found = true;
+      }
+    }
+  };
+  if (path.closed()) {
+    const double span = std::clamp(s_to - s_from, 0.0, len);
+    double a = std::fmod(s_from, len);
+    if (a < 0.0) a += len;
+    if (a + span <= len) {
+      search(a, a + span);
+    } else {
+      search(a, len);
+      search(0.0, a + span - len);
+    }
+    if (found && best.s_m >= len) best.s_m -= len;
+  } else {
+    const double a = std::clamp(s_from, 0.0, len);
+    search(a, std::clamp(s_to, a, len));
+  }
+  return best;  // the tests' windows always hold a segment
+}
+
 // The screening changes nothing, ties included: circles of many short segments queried at their
-// centre (every segment about as far), on the path, near it and far off, and random zigzags.
+// centre (every segment about as far), on the path, near it and far off, and random zigzags;
+// nearest() over the whole path and nearest_in() over windows up to 3 m long (wrapping round
+// the closed circles).
 TEST(ReferencePathTest, NearestEqualsTakingHypotOfEverySegmentToTheBit) {
   std::mt19937_64 rng(41);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -101,7 +150,13 @@ TEST(ReferencePathTest, NearestEqualsTakingHypotOfEverySegmentToTheBit) {
       const Vec2 p = pts[std::size_t(k) % pts.size()];
       qs.push_back({p.x + spread * u(rng), p.y + spread * u(rng)});
     }
+    std::uniform_real_distribution<double> along(0.0, path.length_m());
     for (const Vec2& q : qs) {
+      const double s_from = along(rng), s_to = s_from + 3.0 * std::abs(u(rng));
+      const PathPoint wa = path.nearest_in(q, s_from, s_to);
+      const PathPoint wb = nearest_in_by_hypot(path, q, s_from, s_to);
+      ASSERT_EQ(wa.dist_m, wb.dist_m) << "shape " << shape << " window " << s_from << " " << s_to;
+      ASSERT_EQ(wa.s_m, wb.s_m) << "shape " << shape << " window " << s_from << " " << s_to;
       const PathPoint a = path.nearest(q), b = nearest_by_hypot(path, q);
       ASSERT_EQ(a.dist_m, b.dist_m) << "shape " << shape << " query " << q.x << " " << q.y;
       ASSERT_EQ(a.s_m, b.s_m) << "shape " << shape << " query " << q.x << " " << q.y;
@@ -111,6 +166,25 @@ TEST(ReferencePathTest, NearestEqualsTakingHypotOfEverySegmentToTheBit) {
     }
   }
   EXPECT_EQ(queries, 40 * 203);
+}
+
+// A point as far from three segments, to the bit (a square's sides, exact in binary), is the
+// earliest one's, whichever segment the query before it was nearest to (nearest() tries that one
+// first).
+TEST(ReferencePathTest, ATieGoesToTheEarliestSegmentWhateverWasAskedBefore) {
+  const ReferencePath p(with_lines({line(kWhite, {{-1, 1}, {-1, -1}, {1, -1}, {1, 1}})}));
+  for (const Vec2 before : {Vec2{-1.2, 0.3}, Vec2{0.3, -1.2}, Vec2{1.2, 0.3}, Vec2{0, 0}}) {
+    (void)p.nearest(before);
+    const PathPoint n = p.nearest({0.0, 0.0});
+    EXPECT_EQ(n.dist_m, 1.0);
+    EXPECT_EQ(n.s_m, 1.0) << "after " << before.x << " " << before.y;
+    EXPECT_EQ(n.p.x, -1.0);
+    EXPECT_EQ(n.p.y, 0.0);
+  }
+  // The start point against segment 0's own start: the start point, s = 0.
+  const ReferencePath q(with_lines({line(kWhite, {{0, 0}, {1, 0}, {1, 1}})}));
+  (void)q.nearest({1.5, 0.5});
+  EXPECT_EQ(q.nearest({-1.0, -1.0}).s_m, 0.0);
 }
 
 TEST(ReferencePathTest, NearestInWindow) {

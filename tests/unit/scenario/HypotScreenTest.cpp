@@ -31,8 +31,8 @@ TEST(HypotScreenTest, AnswersAsHypotDoesAtTiesMarginsAndExtremes) {
     }
     for (const double lim : limits) {
       ASSERT_EQ(hypot_at_most(dx, dy, lim), h <= lim) << dx << " " << dy << " " << lim;
-      if (!hypot_may_be_below(dx, dy, lim)) {
-        ASSERT_FALSE(h < lim) << dx << " " << dy << " " << lim;
+      if (!hypot_may_be_below_or_at(dx, dy, lim)) {
+        ASSERT_FALSE(h <= lim) << dx << " " << dy << " " << lim;
         ++settled_by_squares;
       }
       ++checked;
