@@ -10,6 +10,14 @@ namespace {
 
 constexpr double kDuplicateM = 1e-3;  // consecutive points closer than this are one point
 constexpr double kClosedM = 0.01;     // last point this close to the first: a loop
+// The segment screen's domain and slack: with coordinates below 1e6 m, every rounding in a
+// projection, a midpoint or a half length is below 1e-9 m, a thousandth of the slack.
+constexpr double kScreenRangeM = 1e6;
+constexpr double kScreenSlackM = 1e-6;
+
+bool in_screen_range(Vec2 p) {
+  return std::abs(p.x) <= kScreenRangeM && std::abs(p.y) <= kScreenRangeM;
+}
 
 double dist(Vec2 a, Vec2 b) {
   return std::hypot(a.x - b.x, a.y - b.y);
@@ -43,6 +51,12 @@ ReferencePath::ReferencePath(const Scenario& scenario) {
   cum_.push_back(0.0);
   for (std::size_t i = 1; i < pts_.size(); ++i)
     cum_.push_back(cum_.back() + dist(pts_[i - 1], pts_[i]));
+  screen_ = std::all_of(pts_.begin(), pts_.end(), in_screen_range);
+  for (std::size_t i = 0; i + 1 < pts_.size(); ++i) {
+    const Vec2 a = pts_[i], b = pts_[i + 1];
+    mid_.push_back({0.5 * (a.x + b.x), 0.5 * (a.y + b.y)});
+    half_.push_back(0.5 * dist(a, b));
+  }
 }
 
 PathPoint ReferencePath::nearest(Vec2 q) const {
@@ -53,7 +67,15 @@ PathPoint ReferencePath::nearest(Vec2 q) const {
   PathPoint best{0.0, 0.0, pts_.front()};
   best.dist_m = dist(q, pts_.front());
   std::ptrdiff_t best_i = -1;
+  const bool screen = screen_ && in_screen_range(q);
   const auto consider = [&](std::size_t i) {
+    if (screen) {
+      // Every point of the segment is at least |q - mid| - half from q: one farther than the
+      // best (the projection's rounding and the slack aside) cannot beat it, nor tie.
+      const double mx = q.x - mid_[i].x, my = q.y - mid_[i].y;
+      const double reach = best.dist_m + half_[i] + kScreenSlackM;
+      if (mx * mx + my * my > reach * reach * (1.0 + 1e-12)) return;
+    }
     const Vec2 a = pts_[i], b = pts_[i + 1];
     const double seg = cum_[i + 1] - cum_[i];
     if (!(seg > 0.0)) return;

@@ -35,6 +35,12 @@ class ReferencePath {
   std::vector<Vec2> pts_;
   std::vector<double> cum_;  // cumulative arc length at each point
   bool closed_ = false;
+  // Per segment, its midpoint and half its length: a segment whose circle is farther than the
+  // best so far is passed over before its projection (a division). Only where every point lies
+  // within kScreenRangeM of the origin (rounding then stays far below the screen's slack).
+  std::vector<Vec2> mid_;
+  std::vector<double> half_;
+  bool screen_ = false;
   // The segment nearest() found last: tried first next time, so the squared-distance screen
   // passes few of the others (consecutive queries are usually near each other).
   mutable std::size_t hint_ = 0;
