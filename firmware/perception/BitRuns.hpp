@@ -26,13 +26,19 @@ inline void set_range(std::uint64_t* row, int a, int b) {
 // 3-wide AND (erode) or OR (dilate) of a row of s words into out: the horizontal pass of a 3x3
 // erosion or dilation. Cells outside the row count as set for erosion, clear for dilation (as
 // cv::erode and cv::dilate's default border); `last` marks the valid bits of the last word.
+// Only words ka..kb of out are written (0 <= ka <= kb < s; the whole row by default); they
+// read the words either side.
 template <bool kErode>
-void hpass3(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out) {
+void hpass3(const std::uint64_t* r, int s, std::uint64_t last, std::uint64_t* out, int ka = 0,
+            int kb = -1) {
   const std::uint64_t fill = kErode ? kAll : 0;
-  std::uint64_t prev = fill;
-  std::uint64_t cur = r[0] | (s == 1 ? (fill & ~last) : 0);
-  for (int k = 0; k < s; ++k) {
-    const std::uint64_t next = k + 1 < s ? (r[k + 1] | (k + 2 == s ? (fill & ~last) : 0)) : fill;
+  if (kb < 0) kb = s - 1;
+  // Word j of the row, the bits past its last cell as outside the row.
+  const auto word = [&](int j) { return r[j] | (j == s - 1 ? (fill & ~last) : 0); };
+  std::uint64_t prev = ka > 0 ? word(ka - 1) : fill;
+  std::uint64_t cur = word(ka);
+  for (int k = ka; k <= kb; ++k) {
+    const std::uint64_t next = k + 1 < s ? word(k + 1) : fill;
     const std::uint64_t left = (cur << 1) | (prev >> 63);   // bit x holds cell x - 1
     const std::uint64_t right = (cur >> 1) | (next << 63);  // bit x holds cell x + 1
     out[k] = kErode ? (cur & left & right) : (cur | left | right);

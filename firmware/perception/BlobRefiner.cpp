@@ -241,24 +241,28 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
   std::uint64_t er[3][kMaxWords], di[3][kMaxWords], solid[kMaxWords], band[kMaxWords],
       solid_px[kMaxWords], band_px[kMaxWords];
   int classified = 0;
+  // The cell words under pixel words k0..k1 (a cell is d pixels, d a power of two up to 4): the
+  // only ones upsampled below, so the only ones worked out.
+  const int log2_d = d_ == 1 ? 0 : (d_ == 2 ? 1 : 2);
+  const int ck0 = k0 >> log2_d, ck1 = (k1 >> log2_d) < cs ? (k1 >> log2_d) : cs - 1;
   // Row yy's horizontal passes go to slot (yy + 3) % 3 and serve the three cell rows round it.
   const auto pass_row = [&](int yy) {
     const int r = (yy + 3) % 3;
     if (yy < 0 || yy >= cell_h_) {
-      for (int k = 0; k < cs; ++k) {
+      for (int k = ck0; k <= ck1; ++k) {
         er[r][k] = kAll;
         di[r][k] = 0;
       }
     } else {
-      bits::hpass3<true>(blob_row(yy), cs, last, er[r]);
-      bits::hpass3<false>(blob_row(yy), cs, last, di[r]);
+      bits::hpass3<true>(blob_row(yy), cs, last, er[r], ck0, ck1);
+      bits::hpass3<false>(blob_row(yy), cs, last, di[r], ck0, ck1);
     }
   };
   pass_row(cy0 - 1);
   pass_row(cy0);
   for (int y = cy0; y <= cy1; ++y) {
     pass_row(y + 1);
-    for (int k = 0; k < cs; ++k) {
+    for (int k = ck0; k <= ck1; ++k) {
       const std::uint64_t valid = k + 1 < cs ? kAll : last;
       solid[k] = er[0][k] & er[1][k] & er[2][k] & valid;
       band[k] = (di[0][k] | di[1][k] | di[2][k]) & valid & ~solid[k];

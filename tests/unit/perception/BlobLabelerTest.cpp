@@ -1,6 +1,7 @@
 // The bit-packed 3x3 erosion and dilation against a per-cell reference (cv::erode / cv::dilate
 // borders: outside counts as set for erosion, clear for dilation), on masks that are empty, full,
 // random and sparse (a few set rows, as the detector's masks are), in place and not.
+#include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/BlobLabeler.hpp"
 
 #include <gtest/gtest.h>
@@ -106,6 +107,56 @@ TEST(BitMorphologyTest, ABandOfRowsFiltersAsTheWholeMaskWould) {
     }
     for (const bool erode : {true, false}) expect_filter(m, erode, trial % 2 == 0, ~0ULL);
   }
+}
+
+// The horizontal pass over a range of words (the refiner's window) writes what the whole row's
+// pass writes there, reading the words either side: rows of 1 to 6 words, every range, rows whose
+// last word is partly outside the image, edge bits set and clear.
+TEST(BitMorphologyTest, TheHorizontalPassOverARangeOfWordsEqualsTheWholeRowsThere) {
+  std::mt19937_64 rng(12);
+  int ranges = 0;
+  for (int s = 1; s <= 6; ++s) {
+    for (const int width : {64 * s, 64 * s - 1, 64 * s - 37}) {
+      const std::uint64_t last = fw::bits::valid_bits(width, s - 1);
+      for (int trial = 0; trial < 40; ++trial) {
+        std::vector<std::uint64_t> row(static_cast<std::size_t>(s));
+        for (std::uint64_t& w : row) {
+          // Dense, sparse, and words with only their edge bits set or clear.
+          const int kind = int(rng() % 4);
+          w = kind == 0   ? rng()
+              : kind == 1 ? (rng() & rng() & rng())
+              : kind == 2 ? 0x8000000000000001ULL
+                          : ~0x8000000000000001ULL;
+        }
+        row.back() &= last;
+        for (const bool erode : {true, false}) {
+          std::vector<std::uint64_t> whole(static_cast<std::size_t>(s)),
+              part(static_cast<std::size_t>(s), 0x5A5A5A5A5A5A5A5AULL);
+          if (erode) {
+            fw::bits::hpass3<true>(row.data(), s, last, whole.data());
+          } else {
+            fw::bits::hpass3<false>(row.data(), s, last, whole.data());
+          }
+          for (int ka = 0; ka < s; ++ka) {
+            for (int kb = ka; kb < s; ++kb) {
+              if (erode) {
+                fw::bits::hpass3<true>(row.data(), s, last, part.data(), ka, kb);
+              } else {
+                fw::bits::hpass3<false>(row.data(), s, last, part.data(), ka, kb);
+              }
+              for (int k = ka; k <= kb; ++k) {
+                ASSERT_EQ(part[std::size_t(k)], whole[std::size_t(k)])
+                    << "s " << s << " width " << width << " words " << ka << ".." << kb << " word "
+                    << k << (erode ? " erode" : " dilate");
+              }
+              ++ranges;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(ranges, 3 * 40 * 2 * (1 + 3 + 6 + 10 + 15 + 21));
 }
 
 }  // namespace
