@@ -24,7 +24,8 @@ class ReferencePath {
   bool closed() const { return closed_; }
   const std::vector<Vec2>& points() const { return pts_; }
 
-  // Nearest point over the whole path.
+  // Nearest point over the whole path. Const but not for two threads at once: it keeps the
+  // segment it found as the next call's first try.
   PathPoint nearest(Vec2 q) const;
   // Nearest point among arc lengths in [s_from, s_to] (wrapping round a closed path).
   PathPoint nearest_in(Vec2 q, double s_from, double s_to) const;
