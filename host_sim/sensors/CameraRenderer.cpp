@@ -288,8 +288,9 @@ using Block64 = std::uint8_t __attribute__((vector_size(64), aligned(1)));
 __attribute__((target_clones("avx512f", "avx2", "default")))
 #endif
 void fill_pattern(std::uint8_t* d, std::size_t n, const std::uint8_t* pat) {
-  Block64 v[3];
-  std::memcpy(v, pat, kPatternBytes);
+  Block64 v[kPatternBytes / 64];
+  static_assert(sizeof v == kPatternBytes, "the pattern as whole 64-byte blocks");
+  std::memcpy(&v, pat, sizeof v);
   std::size_t i = 0;
   for (; i + kPatternBytes <= n; i += kPatternBytes) {
     std::memcpy(d + i, &v[0], 64);
