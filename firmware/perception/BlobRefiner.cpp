@@ -185,6 +185,8 @@ BlobRefiner::BlobRefiner(int width, int height, int decimation)
       cell_w_(width / decimation),
       cell_h_(height / decimation),
       cell_stride_(bit_stride(width / decimation)) {
+  // The upsampling and the window's cell words take d as a shift (LineDetector normalises it).
+  assert(decimation == 1 || decimation == 2 || decimation == 4);
   blob_ = std::make_unique<std::uint64_t[]>(std::size_t(cell_h_ + 2) * cell_stride_);
   chunks_ = (width + kChunk - 1) / kChunk;
   hsum_ = std::make_unique<std::uint16_t[]>(std::size_t(kHSlots) * std::size_t(chunks_) *

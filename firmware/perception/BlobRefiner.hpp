@@ -31,7 +31,7 @@ class BlobRefiner {
   // Boundary pixels are blurred 8 columns at a time, up to 4 rows at a time.
   static constexpr int kChunk = 8, kChunkBytes = 3 * kChunk, kChunkRows = 4;
 
-  // For width x height frames and masks decimated by d.
+  // For width x height frames and masks decimated by d (1, 2 or 4).
   BlobRefiner(int width, int height, int decimation);
   ~BlobRefiner();
   BlobRefiner(const BlobRefiner&) = delete;
