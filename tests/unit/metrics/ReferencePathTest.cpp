@@ -181,10 +181,6 @@ TEST(ReferencePathTest, ATieGoesToTheEarliestSegmentWhateverWasAskedBefore) {
     EXPECT_EQ(n.p.x, -1.0);
     EXPECT_EQ(n.p.y, 0.0);
   }
-  // The start point against segment 0's own start: the start point, s = 0.
-  const ReferencePath q(with_lines({line(kWhite, {{0, 0}, {1, 0}, {1, 1}})}));
-  (void)q.nearest({1.5, 0.5});
-  EXPECT_EQ(q.nearest({-1.0, -1.0}).s_m, 0.0);
 }
 
 TEST(ReferencePathTest, NearestInWindow) {
