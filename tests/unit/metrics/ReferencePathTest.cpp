@@ -133,7 +133,7 @@ TEST(ReferencePathTest, NearestEqualsTakingHypotOfEverySegmentToTheBit) {
     std::vector<Vec2> pts;
     const double cx = 10.0 * u(rng), cy = 10.0 * u(rng), r = 0.5 + 4.0 * std::abs(u(rng));
     if (shape % 2 == 0) {
-      const int n = 8 + shape * 9;  // 8 to 359 segments round a circle, closed
+      const int n = 8 + shape * 9;  // 8 to 350 segments round a circle, closed
       for (int k = 0; k <= n; ++k) {
         const double a = 2.0 * M_PI * k / n;
         pts.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
