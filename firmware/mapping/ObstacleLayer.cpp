@@ -127,9 +127,9 @@ int ObstacleLayer::free_radius(int cx, int cy, int r_cap) const {
   // No ring past the window's nearest edge.
   r_cap = std::min({r_cap, cx - lo_x, lo_x + nx - 1 - cx, cy - lo_y, lo_y + ny - 1 - cy});
   const std::uint8_t* cost = grid::storage_base(cost_);
-  // Storage column and row of global cell (x, y) inside the window.
-  const auto col_of = [&](int x) { return grid::wrap(cost_.column_offset() + (x - lo_x), nx); };
-  const auto row_of = [&](int y) { return grid::wrap(cost_.row_offset() + (y - lo_y), ny); };
+  // Storage column and row of global cell (x, y) (see grid::storage_index).
+  const auto col_of = [nx](int x) { return grid::wrap(x, nx); };
+  const auto row_of = [ny](int y) { return grid::wrap(y, ny); };
   // Cells x0..x0+len-1 of row y all free (the span may wrap round the storage row once).
   const auto row_free = [&](int x0, int len, int y) {
     const std::uint8_t* row = cost + std::size_t(row_of(y)) * std::size_t(nx);

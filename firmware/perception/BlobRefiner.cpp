@@ -78,17 +78,17 @@ U64x2 spread2(U64x2 v) {
 }
 
 // Words k0..k1 of two rows of pixels (pa, pb) from two rows of cells (a, b; cs words each): each
-// cell is d pixels wide. The two rows go through the bit spreading together, one per lane.
+// cell is 2^log2_d pixels wide (1, 2 or 4). The two rows go through the bit spreading together,
+// one per lane.
 void upsample(const std::uint64_t* a, const std::uint64_t* b, int cs, std::uint64_t* pa,
-              std::uint64_t* pb, int k0, int k1, int d) {
-  const int log2_d = d == 1 ? 0 : (d == 2 ? 1 : 2);  // d is 1, 2 or 4
+              std::uint64_t* pb, int k0, int k1, int log2_d) {
   for (int k = k0; k <= k1; ++k) {
     const int ck = k >> log2_d;
     const U64x2 w = ck < cs ? U64x2{a[ck], b[ck]} : U64x2{0, 0};
     U64x2 p;
-    if (d == 1) {
+    if (log2_d == 0) {
       p = w;
-    } else if (d == 2) {
+    } else if (log2_d == 1) {
       p = spread2(w >> (32 * (k & 1)));
     } else {
       p = spread2(spread2((w >> (16 * (k & 3))) & 0xFFFF));
@@ -179,6 +179,7 @@ BlobRefiner::BlobRefiner(int width, int height, int decimation)
     : w_(width),
       h_(height),
       d_(decimation),
+      log2_d_(decimation == 1 ? 0 : (decimation == 2 ? 1 : 2)),
       stride_(bit_stride(width)),
       mask_(std::make_unique<std::uint64_t[]>(std::size_t(height) * bit_stride(width))),
       tmp_(std::make_unique<std::uint64_t[]>(std::size_t(height) * bit_stride(width))),
@@ -243,10 +244,9 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
   std::uint64_t er[3][kMaxWords], di[3][kMaxWords], solid[kMaxWords], band[kMaxWords],
       solid_px[kMaxWords], band_px[kMaxWords];
   int classified = 0;
-  // The cell words under pixel words k0..k1 (a cell is d pixels, d a power of two up to 4): the
-  // only ones upsampled below, so the only ones worked out.
-  const int log2_d = d_ == 1 ? 0 : (d_ == 2 ? 1 : 2);
-  const int ck0 = k0 >> log2_d, ck1 = (k1 >> log2_d) < cs ? (k1 >> log2_d) : cs - 1;
+  // The cell words under pixel words k0..k1: the only ones upsampled below, so the only ones
+  // worked out.
+  const int ck0 = k0 >> log2_d_, ck1 = (k1 >> log2_d_) < cs ? (k1 >> log2_d_) : cs - 1;
   // Row yy's horizontal passes go to slot (yy + 3) % 3 and serve the three cell rows round it.
   const auto pass_row = [&](int yy) {
     const int r = (yy + 3) % 3;
@@ -269,7 +269,7 @@ int BlobRefiner::rebuild_window(const std::uint8_t* bgr, const ColorThreshold& t
       solid[k] = er[0][k] & er[1][k] & er[2][k] & valid;
       band[k] = (di[0][k] | di[1][k] | di[2][k]) & valid & ~solid[k];
     }
-    upsample(solid, band, cs, solid_px, band_px, k0, k1, d_);
+    upsample(solid, band, cs, solid_px, band_px, k0, k1, log2_d_);
     const int vy = d_ * y, rows = vy + d_ <= h_ ? d_ : h_ - vy;
     for (int j = 0; j < rows; ++j) {
       std::uint64_t* m = mask_.get() + std::ptrdiff_t(vy + j) * s;

@@ -59,8 +59,8 @@ class BlobRefiner {
   // round it, so without the ring each row's pass was done up to three times.
   void blur_chunk(const std::uint8_t* bgr, int u0, int v0, int rows,
                   std::uint16_t out[][kChunkBytes]);
-  static constexpr int kHSlots = 8;  // >= kChunkRows + 4, a power of two
-  int w_, h_, d_, stride_;
+  static constexpr int kHSlots = 8;              // >= kChunkRows + 4, a power of two
+  int w_, h_, d_, log2_d_, stride_;              // log2_d_: d as a shift (d is 1, 2 or 4)
   std::unique_ptr<std::uint64_t[]> mask_, tmp_;  // h_ x stride_ full-resolution rows
   std::unique_ptr<std::uint64_t[]> blob_;        // the blob's cells, (cells high + 2) rows
   int cell_w_, cell_h_, cell_stride_;
