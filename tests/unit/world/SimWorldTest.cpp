@@ -1,6 +1,7 @@
 // The world moves the robot through its wheels; contacts are counted once per start.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -56,6 +57,37 @@ TEST(SimWorldTest, DrivingIntoABoxCountsOneCollisionAndStops) {
   EXPECT_NEAR(world.pose().x, 2.5 - 0.254, 0.03);
   EXPECT_EQ(world.take_new_contacts().size(), 1U);
   EXPECT_TRUE(world.take_new_contacts().empty());
+}
+
+// SimWorld.cpp defines b2Timer so that Box2D's step profile never reads the clock; libbox2d must
+// call that definition, not its own (which would read gettimeofday a dozen times a step).
+TEST(SimWorldTest, Box2DsStepTimerIsTheSimulatorsOwn) {
+  b2World world(b2Vec2(0.0F, -10.0F));
+  b2BodyDef ground_def;
+  b2PolygonShape ground;
+  ground.SetAsBox(50.0F, 1.0F);
+  world.CreateBody(&ground_def)->CreateFixture(&ground, 0.0F);
+  b2PolygonShape box;
+  box.SetAsBox(0.5F, 0.5F);
+  for (int i = 0; i < 200; ++i) {  // a pile of boxes: each step takes tens of microseconds
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.position.Set(float(i % 20) * 1.01F - 10.0F, 2.0F + float(i / 20) * 1.01F);
+    world.CreateBody(&bd)->CreateFixture(&box, 1.0F);
+  }
+  float total_ms = 0.0F;
+  for (int i = 0; i < 100; ++i) {
+    world.Step(1.0F / 60.0F, 8, 3);
+    const b2Profile& p = world.GetProfile();
+    total_ms += p.step + p.collide + p.solve + p.solveInit + p.solveVelocity + p.solvePosition +
+                p.broadphase + p.solveTOI;
+  }
+  EXPECT_EQ(total_ms, 0.0F);
+  const b2Timer t;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(2);
+  while (std::chrono::steady_clock::now() < until) {
+  }
+  EXPECT_EQ(t.GetMilliseconds(), 0.0F);
 }
 
 }  // namespace
