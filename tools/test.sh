@@ -5,7 +5,9 @@
 # them under qemu: one CTest per test binary, the allocation-counting test included, and the robot
 # target's smoke tests; then build the libFuzzer targets (the fuzz preset: clang, ASan, UBSan) and
 # run each one short and deterministically over its seeds and regressions (tests/fuzz, about
-# 20 s of runs). Ends with one line: "carril: N passed, N failed".
+# 20 s of runs); last, build the fast simulator (tools/build_fast_sim.sh: profile-guided and
+# link-time optimised) and check that its runs equal the host build's. Ends with one line:
+# "carril: N passed, N failed".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
@@ -25,6 +27,9 @@ echo "== fuzz: build the libFuzzer targets (clang, ASan, UBSan); short determini
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$jobs"
 ctest --preset fuzz -j"$jobs" 2>&1 | tee "$logs/fuzz.log" || rc=1
+echo "== fast simulator: profile-guided and link-time optimised build; its runs equal the host build's"
+bash tools/build_fast_sim.sh
+ctest --test-dir build/sim-pgo -L fast_sim 2>&1 | tee "$logs/fast_sim.log" || rc=1
 # CTest's own summary: "N% tests passed, F tests failed out of T".
 total=0
 failed=0
