@@ -190,6 +190,7 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   const double free_to = std::min(cfg_.raytrace_max_range_m, range_max);
   const double rmin = cfg_.raytrace_min_range_m;
   const int col_off = cost_.column_offset(), row_off = cost_.row_offset();
+  const int nx = cost_.nx(), ny = cost_.ny();
   // Rays from the sensor (no minimum range) start in its cell; the cells round it that are free
   // now need no walk. Rays never walk farther than the clearing range.
   if (rmin == 0.0 && !walk_every_cell_ &&
@@ -220,8 +221,11 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
     if (is_return && r <= cfg_.obstacle_max_range_m) {
       int cx = 0, cy = 0;
       if (cost_.world_to_cell(sensor_pose.x + r * c, sensor_pose.y + r * s, cx, cy)) {
-        hits_[std::size_t(2 * n_hits)] = cx;
-        hits_[std::size_t(2 * n_hits + 1)] = cy;
+        // Its storage cell, from the window's offsets as in clear_ray (one wrap at most).
+        int col = col_off + (cx - cost_.origin_cx()), row = row_off + (cy - cost_.origin_cy());
+        if (col >= nx) col -= nx;
+        if (row >= ny) row -= ny;
+        hits_[std::size_t(n_hits)] = std::size_t(row) * std::size_t(nx) + std::size_t(col);
         ++n_hits;
       }
       ++st.marked;
@@ -232,10 +236,12 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
   // Marking after all the clearing: a cell hit by one beam and crossed by a neighbour (a wall
   // seen at a grazing angle) stays lethal, and its miss count is re-armed.
   const auto clear_scans = std::uint8_t(cfg_.clear_scans);
+  std::uint8_t* cost = grid::storage_base(cost_);
+  CellState* state = grid::storage_base(state_);
   for (int h = 0; h < n_hits; ++h) {
-    const int cx = hits_[std::size_t(2 * h)], cy = hits_[std::size_t(2 * h + 1)];
-    cost_.at(cx, cy) = cost::kLethal;
-    CellState& s = state_.at(cx, cy);
+    const std::size_t i = hits_[std::size_t(h)];
+    cost[i] = cost::kLethal;
+    CellState& s = state[i];
     s.misses_left = clear_scans;
     s.last_miss = scan_counter_;
     s.hit_time_ds = now_ds;

@@ -19,6 +19,7 @@
 // user can tune ("cleared after 3 scans") and exact, testable behaviour.
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "firmware/core/BeamDirections.hpp"
@@ -88,7 +89,9 @@ class ObstacleLayer {
   RollingGrid<std::uint8_t> cost_;
   RollingGrid<CellState> state_;
   BeamDirections beams_;  // the beams' directions in the sensor frame, kept across scans
-  std::array<int, 2 * hal::kMaxScanBeams> hits_{};  // this scan's hit cells (cx, cy), marked last
+  // This scan's hit cells, marked last: their index in the grids' storage (cost_ and state_
+  // share one layout).
+  std::array<std::size_t, hal::kMaxScanBeams> hits_{};
   // The last ray's start point [m], window corner [cells] and start cell [cells].
   struct RayStart {
     double x = HUGE_VAL, y = HUGE_VAL;
