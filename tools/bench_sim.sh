@@ -3,6 +3,8 @@
 # prints the median, min and max real-time factor and the firmware tick's compute p50/p99 from
 # summary.json. Camera 30 Hz, lidar 20 Hz, control 100 Hz (the presets' rates).
 # Usage: tools/bench_sim.sh [N] [scenario.yaml ...]   (build the host preset first)
+# CARRIL_SIM picks another carril_sim, e.g. the fast simulator's (tools/build_fast_sim.sh):
+# CARRIL_SIM=build/sim-pgo/host_sim/app/carril_sim tools/bench_sim.sh 15 scenarios/square.yaml
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=${1:-7}
