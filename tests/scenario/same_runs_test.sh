@@ -8,7 +8,9 @@ fast=$1 ref=$2 scn=$3
 work=$(mktemp -d) || exit 1
 trap 'rm -rf "$work"' EXIT
 for which in fast ref; do
-  "${!which}" --scenario "$scn" --out "$work/$which" --quiet --no-plots >/dev/null 2>&1
+  sim=$fast
+  [ "$which" = ref ] && sim=$ref
+  "$sim" --scenario "$scn" --out "$work/$which" --quiet --no-plots >/dev/null 2>&1
   rc=$?
   # 0 and 1 are a run's verdicts; anything else is an error.
   if [ "$rc" -gt 1 ] || [ ! -s "$work/$which/summary.json" ]; then
