@@ -26,6 +26,14 @@ inline std::size_t storage_index(int cx, int cy, int nx, int ny) {
   return std::size_t(wrap(cy, ny)) * std::size_t(nx) + std::size_t(wrap(cx, nx));
 }
 
+// Storage column (or row) of global cell c in a window whose first cell, lo, is stored at off
+// (RollingGrid::column_offset() / row_offset(), n cells across): for c inside the window,
+// off + (c - lo) less one wrap at most, with no division.
+inline int window_storage(int c, int lo, int off, int n) {
+  const int v = off + (c - lo);
+  return v >= n ? v - n : v;
+}
+
 // The first element of a grid's storage (nx * ny cells, row-major). Grids of equal size and
 // origin share storage indices, which lets layers be combined element by element.
 template <typename T>

@@ -94,11 +94,9 @@ void ObstacleLayer::clear_ray(double x0, double y0, double x1, double y1, bool k
   std::uint8_t* cost = grid::storage_base(cost_);
   CellState* state = grid::storage_base(state_);
   const std::uint8_t scan = scan_counter_;
-  // The start cell lies in the window, so its storage column is col_off + (cx0 - lo_x) less one
-  // wrap at most (and the same for the row).
-  int col0 = col_off + (cx0 - lo_x), row0 = row_off + (cy0 - lo_y);
-  if (col0 >= nx) col0 -= nx;
-  if (row0 >= ny) row0 -= ny;
+  // The start cell lies in the window.
+  const int col0 = grid::window_storage(cx0, lo_x, col_off, nx);
+  const int row0 = grid::window_storage(cy0, lo_y, row_off, ny);
   const int skip = cx0 == free_cx_ && cy0 == free_cy_ ? free_skip_ : 0;
   grid::trace_line_from(
       col0, row0, cx1 - cx0, cy1 - cy0, nx, ny, include_end,
@@ -221,10 +219,9 @@ ObstacleUpdateStats ObstacleLayer::update(const hal::LaserScan& scan, const Pose
     if (is_return && r <= cfg_.obstacle_max_range_m) {
       int cx = 0, cy = 0;
       if (cost_.world_to_cell(sensor_pose.x + r * c, sensor_pose.y + r * s, cx, cy)) {
-        // Its storage cell, from the window's offsets as in clear_ray (one wrap at most).
-        int col = col_off + (cx - cost_.origin_cx()), row = row_off + (cy - cost_.origin_cy());
-        if (col >= nx) col -= nx;
-        if (row >= ny) row -= ny;
+        // Its storage cell (the cell is in the window).
+        const int col = grid::window_storage(cx, cost_.origin_cx(), col_off, nx);
+        const int row = grid::window_storage(cy, cost_.origin_cy(), row_off, ny);
         hits_[std::size_t(n_hits)] = std::size_t(row) * std::size_t(nx) + std::size_t(col);
         ++n_hits;
       }

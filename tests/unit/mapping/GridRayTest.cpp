@@ -236,6 +236,22 @@ TEST(GridRayTest, ClosedFormWalkMatchesTheReferenceForEveryLengthItTakes) {
   EXPECT_EQ(longest, grid::kClosedFormMaxSteps + 1);
 }
 
+// A window cell's storage column from the window's offset equals the modulo storage_index
+// takes, for windows anywhere (negative origins included) and every cell in them.
+TEST(GridRayTest, WindowStorageEqualsTheModuloForEveryCellOfTheWindow) {
+  int cells = 0;
+  for (const int n : {1, 2, 7, 64, 161}) {
+    for (const int lo : {-1000, -161, -65, -1, 0, 1, 63, 64, 999}) {
+      for (int c = lo; c < lo + n; ++c) {
+        ASSERT_EQ(grid::window_storage(c, lo, grid::wrap(lo, n), n), grid::wrap(c, n))
+            << "n " << n << " lo " << lo << " c " << c;
+        ++cells;
+      }
+    }
+  }
+  EXPECT_EQ(cells, 9 * (1 + 2 + 7 + 64 + 161));
+}
+
 TEST(GridRayTest, ClipKeepsThePartInsideTheBox) {
   double x0 = -1.0, y0 = 0.5, x1 = 3.0, y1 = 0.5;
   bool end_clipped = false;
