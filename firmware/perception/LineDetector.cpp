@@ -10,6 +10,7 @@
 #include "firmware/perception/BlobLabeler.hpp"
 #include "firmware/perception/BlobRefiner.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
+#include "firmware/perception/FloorBox.hpp"
 
 // The pipeline, against the thesis's OpenCV one (GaussianBlur 5x5, cvtColor HSV, inRange, erode
 // x2, dilate x2, findContours, largest contour's moments and fitLine):
@@ -68,10 +69,9 @@ int next_sample(int i, int n) {
   return i == n - 1 ? n : n - 1;
 }
 
-// The table verdict of block (x, by): bit 0 tape colour, bit 1 end-mark colour.
+// The table index of block (x, by): its average colour quantised to 6 bits a channel.
 template <int D>
-std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::uint8_t* lut, int x,
-                           int by) {
+std::uint32_t block_index(const std::uint8_t* img, int row_bytes, int x, int by) {
   constexpr int kShift = D == 1 ? 2 : (D == 2 ? 4 : 6);
   unsigned sum[3] = {0, 0, 0};
   for (int j = 0; j < D; ++j) {
@@ -81,7 +81,14 @@ std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::ui
       for (int c = 0; c < 3; ++c) sum[c] += p[3 * i + c];
     }
   }
-  return lut[color_lut::index(sum[0] >> kShift, sum[1] >> kShift, sum[2] >> kShift)];
+  return color_lut::index(sum[0] >> kShift, sum[1] >> kShift, sum[2] >> kShift);
+}
+
+// The table verdict of block (x, by): bit 0 tape colour, bit 1 end-mark colour.
+template <int D>
+std::uint8_t block_verdict(const std::uint8_t* img, int row_bytes, const std::uint8_t* lut, int x,
+                           int by) {
+  return lut[block_index<D>(img, row_bytes, x, by)];
 }
 
 // block_verdict at d = 2 with the four pixels' sums in 16-bit lanes: the two rows' first eight
@@ -94,6 +101,10 @@ std::uint8_t block_verdict_lanes(const std::uint8_t* p, int row_bytes, const std
       (s + __builtin_shufflevector(s, lanes::U16x8{}, 3, 4, 5, 6, 7, 8, 8, 8)) >> 4;
   return lut[color_lut::index(t[0], t[1], t[2])];
 }
+
+// At d = 2, eight sampled blocks in a row (every kSampleEvery-th) span FloorBox::kRunBytes bytes.
+constexpr int kRunSamples = 8;
+static_assert(kRunSamples * kSampleEvery * 6 == FloorBox::kRunBytes, "a run of eight samples");
 
 // Verdicts of block columns c0..c1 of block row `by` into verdict[c0..c1].
 template <int D>
@@ -146,6 +157,10 @@ void pack_word(std::uint8_t* verdict, int k, std::uint64_t* line_row, std::uint6
   end_row[k] = ew;
 }
 
+struct SampleRuns {
+  long tested = 0, outside = 0;
+};
+
 // Every block of the frame (the reference the sparse pass must equal). Returns blocks classified.
 template <int D>
 long classify_whole(const std::uint8_t* img, int width, const std::uint8_t* lut,
@@ -160,10 +175,13 @@ long classify_whole(const std::uint8_t* img, int width, const std::uint8_t* lut,
 
 // The sparse pass (see above): `need` (same shape as the masks) is scratch. `reach` is k - 1.
 // Returns blocks classified, the samples included.
+// `box`: at d = 2, the floor box (or null); `runs` counts the runs of eight samples tested
+// against it and those that were not inside.
 template <int D>
 long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut,
                      std::uint16_t* vsum, std::uint8_t* q, std::uint8_t* verdict,
-                     const BitImage& line, const BitImage& end, const BitImage& need, int reach) {
+                     const BitImage& line, const BitImage& end, const BitImage& need, int reach,
+                     const FloorBox* box, SampleRuns& runs) {
   const int w = line.width, h = line.height, row_bytes = width * 3;
   const std::size_t words = std::size_t(line.stride) * std::size_t(h);
   for (std::size_t i = 0; i < words; ++i) {
@@ -184,6 +202,18 @@ long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut
     if constexpr (D == 2) {
       const std::uint8_t* row = img + std::size_t(by) * 2 * std::size_t(row_bytes);
       const int x_lanes = (row_bytes - 8) / 6;  // 6x + 8 <= row_bytes
+      constexpr int kRunBlocks = kRunSamples * kSampleEvery;
+      // Runs of eight samples on the floor box first, each sample of a run outside it on its own.
+      for (; box != nullptr && x + kRunBlocks - kSampleEvery < w - 1 &&
+             6 * x + FloorBox::kRunBytes <= row_bytes;
+           x += kRunBlocks) {
+        ++runs.tested;
+        if (box->holds_run(row + 6 * x, row_bytes)) continue;
+        ++runs.outside;
+        for (int j = 0; j < kRunBlocks; j += kSampleEvery) {
+          if (block_verdict_lanes(row + 6 * (x + j), row_bytes, lut) != 0) mark(x + j);
+        }
+      }
       for (; x < w - 1 && x <= x_lanes; x += kSampleEvery) {
         if (block_verdict_lanes(row + 6 * x, row_bytes, lut) != 0) mark(x);
       }
@@ -211,6 +241,39 @@ long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut
     }
   }
   return blocks;
+}
+
+// The floor box (FloorBox.hpp) at d = 2: grown from the floor's colour, taken as the most common
+// table index among the clear blocks of a grid over the frame, and grown again when most runs of
+// samples fall outside it, at most once every kBoxRetry frames: growing reads up to
+// kBoxWidth^3 + 6 kBoxWidth^2 table cells (some 40 us on the host).
+constexpr int kBoxWidth = 32;  // [6-bit levels] at most half of each channel's range
+constexpr int kBoxRetry = 30;  // [frames]
+
+std::uint32_t floor_seed(const std::uint8_t* img, int width, int height, const std::uint8_t* lut,
+                         bool& found) {
+  constexpr int kGx = 8, kGy = 6;
+  const int bw = width / 2, bh = height / 2;
+  std::uint32_t idx[kGx * kGy];
+  int n = 0;
+  for (int j = 0; j < kGy; ++j) {
+    for (int i = 0; i < kGx; ++i) {
+      const std::uint32_t k = block_index<2>(img, width * 3, (2 * i + 1) * bw / (2 * kGx),
+                                             (2 * j + 1) * bh / (2 * kGy));
+      if (lut[k] == 0) idx[n++] = k;
+    }
+  }
+  int best = -1, best_count = 0;
+  for (int a = 0; a < n; ++a) {
+    int count = 0;
+    for (int b = 0; b < n; ++b) count += idx[b] == idx[a];
+    if (count > best_count) {
+      best = a;
+      best_count = count;
+    }
+  }
+  found = best >= 0;
+  return found ? idx[best] : 0;
 }
 
 }  // namespace
@@ -243,6 +306,10 @@ struct LineDetector::Buffers {
   BitImage line, end, tmp;
   RunLabeler labeler;
   BlobRefiner refiner;
+  FloorBox box;
+  SampleRuns runs;
+  bool box_in_use = false;  // the box is valid and most runs lay inside it last frame
+  int box_age = kBoxRetry;  // frames since the box was last grown
 };
 
 LineDetector::LineDetector(const CameraModel& camera, const LineDetectorConfig& config)
@@ -349,7 +416,8 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   const auto classify = [&](auto decimation) {
     constexpr int D = decltype(decimation)::value;
     return cfg_.sparse ? classify_sparse<D>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
-                                            bf.m.get(), bf.line, bf.end, bf.tmp, reach)
+                                            bf.m.get(), bf.line, bf.end, bf.tmp, reach,
+                                            bf.box_in_use ? &bf.box : nullptr, bf.runs)
                        : classify_whole<D>(img, w, bf.lut.get(), bf.vsum.get(), bf.q.get(),
                                            bf.m.get(), bf.line, bf.end);
   };
@@ -357,6 +425,24 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
                       : d == 4 ? classify(std::integral_constant<int, 4>{})
                                : classify(std::integral_constant<int, 1>{});
   classified_blocks_ += std::uint64_t(blocks);
+  if (cfg_.sparse && d == 2) {
+    // Grown when there is none yet, or when most runs fell outside it (the floor changed).
+    box_runs_tested_ += std::uint64_t(bf.runs.tested);
+    box_runs_inside_ += std::uint64_t(bf.runs.tested - bf.runs.outside);
+    // A box most runs fall outside of (a noisy image, a floor of another colour) only costs its
+    // tests: it is set aside until the next try.
+    ++bf.box_age;
+    if (2 * bf.runs.outside > bf.runs.tested) bf.box_in_use = false;
+    if (!bf.box_in_use && bf.box_age >= kBoxRetry) {
+      bool found = false;
+      const std::uint32_t seed = floor_seed(img, w, h, bf.lut.get(), found);
+      bf.box = found ? FloorBox::grow(bf.lut.get(), seed, kBoxWidth) : FloorBox{};
+      bf.box_in_use = bf.box.valid();
+      bf.box_age = 0;
+      ++floor_boxes_;
+    }
+    bf.runs = SampleRuns{};
+  }
   for (const BitImage* m : {&bf.line, &bf.end}) {
     for (int i = 0; i < rounds; ++i) erode3x3(*m, *m, bf.tmp);
     for (int i = 0; i < rounds; ++i) dilate3x3(*m, *m, bf.tmp);

@@ -95,6 +95,11 @@ class LineDetector {
 
   // Blocks classified so far, samples included (for tests and profiling).
   std::uint64_t classified_blocks() const { return classified_blocks_; }
+  // At d = 2, sparse: times the floor box was grown, and runs of eight samples tested against
+  // it so far, and how many of those lay inside it (their verdicts taken as 0 without lookups).
+  std::uint64_t floor_boxes() const { return floor_boxes_; }
+  std::uint64_t box_runs_tested() const { return box_runs_tested_; }
+  std::uint64_t box_runs_inside() const { return box_runs_inside_; }
 
  private:
   struct Buffers;  // mask, run and label storage, sized at construction
@@ -102,6 +107,7 @@ class LineDetector {
   LineDetectorConfig cfg_;
   std::unique_ptr<Buffers> buf_;
   std::uint64_t classified_blocks_ = 0;
+  std::uint64_t floor_boxes_ = 0, box_runs_tested_ = 0, box_runs_inside_ = 0;
 };
 
 }  // namespace carril::fw

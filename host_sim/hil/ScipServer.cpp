@@ -47,7 +47,7 @@ ScipServer::~ScipServer() {
 
 bool ScipServer::geometry_for(const hal::LaserScan& shape, int scan_rpm, scip::Geometry& g,
                               const char*& why) {
-  const double inc = shape.angle_increment_rad;
+  const double inc = double(shape.angle_increment_rad);
   if (!std::isfinite(inc) || !std::isgreater(inc, 0.0) || shape.count == 0)
     return why = "scan has no beams or no positive angle increment", false;
   const double ares = 2.0 * M_PI / inc;

@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <vector>
 
 #include "firmware/perception/ColorClassifier.hpp"
+#include "firmware/perception/FloorBox.hpp"
 #include "host_sim/alloc/AllocCounter.hpp"
 #include "tests/unit/perception/PerceptionFrames.hpp"
 
@@ -420,6 +423,16 @@ void check_sparse(int decimation, double noise) {
   std::printf("d %d noise %.0f: sparse classified %.1f %% of the blocks\n", decimation, noise,
               100.0 * double(tracked.classified_blocks()) / double(whole.classified_blocks()));
   EXPECT_LT(2 * tracked.classified_blocks(), whole.classified_blocks());
+  if (decimation == 2) {
+    // The floor box took most runs of samples; the tape's and the noisier frames' the rest.
+    std::printf("d 2 noise %.0f: floor boxes %llu, runs inside %llu of %llu\n", noise,
+                static_cast<unsigned long long>(tracked.floor_boxes()),
+                static_cast<unsigned long long>(tracked.box_runs_inside()),
+                static_cast<unsigned long long>(tracked.box_runs_tested()));
+    EXPECT_GE(tracked.floor_boxes(), 1U);
+    EXPECT_GT(tracked.box_runs_inside(), 0U);
+    EXPECT_GT(tracked.box_runs_tested(), tracked.box_runs_inside());
+  }
 }
 
 // A band of end-mark colour along the bottom edge, only as tall as the two last rows of cells:
@@ -457,6 +470,84 @@ TEST(LineDetectorTest, SparseClassificationSeesABandAlongTheBottomEdge) {
     EXPECT_EQ(a.end_blob.area_px, b.end_blob.area_px);
     EXPECT_EQ(a.end_blob.centroid_px, b.end_blob.centroid_px);
   }
+}
+
+// The floor box (FloorBox.hpp) ends where the table's first set cell begins. A patch of a set cell
+// just outside the box the detector grew from a flat floor must be found as the whole frame finds
+// it (a box one level wider on each side skips every run over it).
+TEST(LineDetectorTest, FloorBoxSkipsNoBlockOfEitherColour) {
+  FrameCase fc{
+      "flat",  "campero", "{color: white, points: [[-20, -20], [-19, -20]]}", "", 0, 0, 0, 0,
+      "white", true};
+  const sim::Scenario s = make_scenario(fc);
+  sim::CameraRenderer renderer(s, 1);
+  const fw::LineDetectorConfig cfg = config_for("white", 2);
+  std::vector<std::uint8_t> t(fw::color_lut::kSize);
+  fw::color_lut::build(cfg.line, cfg.end, t.data());
+  constexpr std::uint8_t kFloor = 100;
+  const fw::FloorBox box = fw::FloorBox::grow(t.data(), fw::color_lut::index(25, 25, 25), 32);
+  ASSERT_TRUE(box.valid());
+  // The set cells one step outside each face of the box, over the face's extent.
+  std::vector<std::array<int, 3>> outside;
+  for (int c = 0; c < 3; ++c) {
+    for (const int at : {box.lo(c) / 4 - 1, box.hi(c) / 4 + 1}) {
+      if (at < 0 || at > 63) continue;
+      std::size_t face = 0;  // up to two a face
+      const int o1 = (c + 1) % 3, o2 = (c + 2) % 3;
+      for (int a = box.lo(o1) / 4; a <= box.hi(o1) / 4; ++a) {
+        for (int b = box.lo(o2) / 4; b <= box.hi(o2) / 4; ++b) {
+          std::array<int, 3> cell{};
+          cell[std::size_t(c)] = at;
+          cell[std::size_t(o1)] = a;
+          cell[std::size_t(o2)] = b;
+          const auto idx = fw::color_lut::index(std::uint32_t(cell[0]), std::uint32_t(cell[1]),
+                                                std::uint32_t(cell[2]));
+          if (t[idx] != 0 && face < 2) {
+            outside.push_back(cell);
+            ++face;
+          }
+        }
+      }
+    }
+  }
+  ASSERT_FALSE(outside.empty());
+  auto frame = std::make_unique<hal::CameraFrame>();
+  frame->width = 640;
+  frame->height = 480;
+  const auto paint = [&](const std::array<int, 3>* patch) {
+    for (int v = 0; v < 480; ++v) {
+      for (int u = 0; u < 640; ++u) {
+        std::uint8_t* p = frame->bgr.data() + (std::size_t(v) * 640 + std::size_t(u)) * 3;
+        const bool in = patch != nullptr && u >= 250 && u < 390 && v >= 170 && v < 310;
+        for (int c = 0; c < 3; ++c) {
+          // A cell's centre colour: the table's own verdict, and the blur's on the flat patch.
+          p[c] = in ? std::uint8_t(4 * (*patch)[std::size_t(c)] + 2) : kFloor;
+        }
+      }
+    }
+  };
+  int found = 0;
+  for (const std::array<int, 3>& cell : outside) {
+    SCOPED_TRACE(testing::Message() << cell[0] << " " << cell[1] << " " << cell[2]);
+    fw::LineDetectorConfig whole_cfg = cfg;
+    whole_cfg.sparse = false;
+    LineDetector sparse(renderer.model(), cfg), whole(renderer.model(), whole_cfg);
+    LineDetection a, b;
+    paint(nullptr);  // the first frame: the floor alone, from which the box is grown
+    ASSERT_TRUE(sparse.detect(*frame, a));
+    ASSERT_EQ(sparse.floor_boxes(), 1U);
+    paint(&cell);
+    ASSERT_TRUE(sparse.detect(*frame, a));
+    ASSERT_TRUE(whole.detect(*frame, b));
+    EXPECT_GT(sparse.box_runs_inside(), 0U);
+    EXPECT_GT(sparse.box_runs_tested(), sparse.box_runs_inside());
+    found += b.detected || b.end_detected ? 1 : 0;
+    ASSERT_EQ(a.detected, b.detected);
+    ASSERT_EQ(a.end_detected, b.end_detected);
+    if (b.detected) EXPECT_EQ(a.blobs[0].area_px, b.blobs[0].area_px);
+    if (b.end_detected) EXPECT_EQ(a.end_blob.area_px, b.end_blob.area_px);
+  }
+  EXPECT_EQ(found, int(outside.size()));  // every patch was a blob of one colour or the other
 }
 
 TEST(LineDetectorTest, SparseClassificationGivesTheWholeFramesBlobs) {
