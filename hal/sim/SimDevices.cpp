@@ -22,6 +22,8 @@ const CameraFrame* SimCamera::latest() {
 }
 
 void SimCamera::publish(TimeNs stamp_ns) {
+  // Silent and None leave the buffer as rendered; the other faults write into it or resize it.
+  as_rendered_ = fault_ == SimSensorFault::None || fault_ == SimSensorFault::Silent;
   if (fault_ == SimSensorFault::Silent) return;
   frame_->stamp_ns = stamp_ns;
   frame_->seq = ++seq_;

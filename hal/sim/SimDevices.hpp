@@ -51,6 +51,9 @@ class SimCamera final : public Camera {
   const CameraFrame* latest() override;
   // Simulator side: the buffer to render into, then publish() it with its stamp.
   CameraFrame& back_buffer() { return *frame_; }
+  // Whether the back buffer still holds what was last rendered into it: no fault has written to
+  // it or resized it since (a renderer may then redraw only what changes).
+  bool back_buffer_as_rendered() const { return as_rendered_; }
   void publish(TimeNs stamp_ns);
   void inject_fault(SimSensorFault f) { fault_ = f; }
 
@@ -58,6 +61,7 @@ class SimCamera final : public Camera {
   std::unique_ptr<CameraFrame> frame_;   // sized once at construction (3.7 MB)
   std::unique_ptr<CameraFrame> frozen_;  // the image a Frozen camera repeats
   bool frozen_taken_ = false;
+  bool as_rendered_ = false;
   std::uint32_t seq_ = 0;
   SimSensorFault fault_ = SimSensorFault::None;
 };

@@ -48,7 +48,8 @@ std::uint64_t SimRun::allocations_in_ticks() const {
 void SimRun::publish_sensors(hal::TimeNs t) {
   SimWorld& w = topo_.world;
   if (t >= next_cam_ns_) {
-    topo_.camera_renderer.render(w.pose(), topo_.camera.back_buffer());
+    topo_.camera_renderer.render(w.pose(), topo_.camera.back_buffer(),
+                                 topo_.camera.back_buffer_as_rendered());
     topo_.camera.publish(t);
     next_cam_ns_ += cam_period_ns_;
   }

@@ -56,13 +56,23 @@ void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) co
   apply_glare(frame, frame_index);
 }
 
+bool CameraEffects::glare_box(std::uint64_t frame_index, int width, int height, int& u0, int& u1,
+                              int& v0, int& v1) const {
+  if (intensity_ <= 0.0) return false;
+  const int uc = glare_u(frame_index, width);
+  u0 = std::max(0, uc - reach_);
+  u1 = std::min(width - 1, uc + reach_);
+  v0 = std::max(0, v_ - reach_);
+  v1 = std::min(height - 1, v_ + reach_);
+  return u0 <= u1 && v0 <= v1;
+}
+
 void CameraEffects::apply_glare(hal::CameraFrame& frame, std::uint64_t frame_index) const {
   const int w = frame.width, h = frame.height;
   std::uint8_t* d = frame.bgr.data();
-  if (intensity_ <= 0.0) return;
+  int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  if (!glare_box(frame_index, w, h, u0, u1, v0, v1)) return;
   const int uc = glare_u(frame_index, w), vc = v_, side = 2 * reach_ + 1;
-  const int u0 = std::max(0, uc - reach_), u1 = std::min(w - 1, uc + reach_);
-  const int v0 = std::max(0, vc - reach_), v1 = std::min(h - 1, vc + reach_);
   // Byte by byte over each row's span (the patch holds every level three times, B, G and R): a
   // saturating add, sixteen bytes at a time.
   const std::size_t n = std::size_t(u1 - u0 + 1) * 3;

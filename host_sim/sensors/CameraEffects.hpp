@@ -28,6 +28,10 @@ class CameraEffects {
   // Where the glare's centre is in frame `frame_index` (whole pixels) [px].
   int glare_u(std::uint64_t frame_index, int width) const;
   int glare_v() const { return v_; }
+  // The pixels glare adds to in frame `frame_index` of a width x height image: columns u0..u1,
+  // rows v0..v1 (inclusive); false when it adds to none.
+  bool glare_box(std::uint64_t frame_index, int width, int height, int& u0, int& u1, int& v0,
+                 int& v1) const;
 
  private:
   double exposure_ = 1.0;

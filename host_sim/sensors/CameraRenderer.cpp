@@ -227,17 +227,27 @@ void CameraRenderer::add_poly(std::vector<Vec2> pts, Rgb color) {
   polys_.push_back({std::move(pts), color, cx, cy, r});
 }
 
-void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
+void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame, bool as_rendered) {
   const CameraSpec& cs = scenario_.robot.camera;
   frame.width = static_cast<std::uint16_t>(cs.width);
   frame.height = static_cast<std::uint16_t>(cs.height);
   cv::Mat img(cs.height, cs.width, CV_8UC3, frame.bgr.data());
   const Rgb f = effects_.expose(scenario_.floor);
+  const bool same_floor = f.r == drawn_floor_.r && f.g == drawn_floor_.g && f.b == drawn_floor_.b;
   if (reference_) {
     img.setTo(cv::Scalar(f.b, f.g, f.r));
+  } else if (as_rendered && drawn_frame_ == frame.bgr.data() && same_floor) {
+    unfill(f, img);  // a fifth of the frame's bytes or less, where a fill writes them all
+    ++unfills_;
   } else {
     fill_floor(f, img);
   }
+  // What this frame draws is kept for the next unless noise will touch every pixel.
+  keep_drawn_ = !reference_ && noise_std_ <= 0;
+  drawn_.clear();
+  drawn_pts_.clear();
+  drawn_frame_ = keep_drawn_ ? frame.bgr.data() : nullptr;
+  drawn_floor_ = f;
 
   const double co = std::cos(pose.yaw_rad), si = std::sin(pose.yaw_rad);
   const double cam_wx = pose.x + co * cs.x_m - si * cs.y_m;
@@ -259,6 +269,10 @@ void CameraRenderer::render(const Pose2& pose, hal::CameraFrame& frame) {
   }
 
   // Exposure went into the colours drawn (draw()); the glare goes on top.
+  int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  if (keep_drawn_ && effects_.glare_box(frames_, cs.width, cs.height, u0, u1, v0, v1)) {
+    drawn_.push_back({0, 0, u0, v0, u1, v1});
+  }
   effects_.apply_glare(frame, frames_);
   ++frames_;
   if (noise_std_ > 0) {
@@ -310,6 +324,21 @@ void CameraRenderer::fill_floor(Rgb c, cv::Mat& img) {
     pat[k + 2] = c.r;
   }
   fill_pattern(img.data, img.total() * 3, pat);
+}
+
+void CameraRenderer::unfill(Rgb c, cv::Mat& img) const {
+  // A polygon whose box is small (a floor speckle) gets its box filled; a large one (tape,
+  // obstacles) is filled again in the floor colour, the same pixels as when it was drawn.
+  constexpr long kBoxFillMaxPx = 4096;
+  for (const Drawn& d : drawn_) {
+    const long area = long(d.x1 - d.x0 + 1) * long(d.y1 - d.y0 + 1);
+    if (d.n == 0 || area <= kBoxFillMaxPx) {
+      fill_rect(img.data, img.cols, img.rows, d.x0, d.y0, d.x1, d.y1, c.b, c.g, c.r);
+    } else {
+      fill_convex_poly(img.data, img.cols, img.rows, drawn_pts_.data() + d.first, int(d.n), c.b,
+                       c.g, c.r);
+    }
+  }
 }
 
 bool CameraRenderer::may_show(double x, double y, double r) const {
@@ -450,6 +479,26 @@ void CameraRenderer::draw(const std::vector<Vec2>& pts, Rgb color, const Pose2& 
   } else {
     // The frame's buffer, so continuous; OpenCV's bytes without its per-call overhead.
     fill_convex_poly(img.data, img.cols, img.rows, px_.data(), int(px_.size()), c.b, c.g, c.r);
+    if (keep_drawn_) {
+      // The box of the vertices rounded as the fill rounds them, one pixel wider, in the image.
+      int x0 = px_[0].x, x1 = x0, y0 = px_[0].y, y1 = y0;
+      for (const FixedPt& p : px_) {
+        x0 = std::min(x0, p.x);
+        x1 = std::max(x1, p.x);
+        y0 = std::min(y0, p.y);
+        y1 = std::max(y1, p.y);
+      }
+      constexpr int kHalf = 1 << (kFillShift - 1);
+      const int bx0 = std::max(((x0 + kHalf) >> kFillShift) - 1, 0);
+      const int bx1 = std::min(((x1 + kHalf) >> kFillShift) + 1, img.cols - 1);
+      const int by0 = std::max(((y0 + kHalf) >> kFillShift) - 1, 0);
+      const int by1 = std::min(((y1 + kHalf) >> kFillShift) + 1, img.rows - 1);
+      if (bx0 <= bx1 && by0 <= by1) {
+        drawn_.push_back(
+            {std::uint32_t(drawn_pts_.size()), std::uint32_t(px_.size()), bx0, by0, bx1, by1});
+        drawn_pts_.insert(drawn_pts_.end(), px_.begin(), px_.end());
+      }
+    }
   }
 }
 

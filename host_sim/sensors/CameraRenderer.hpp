@@ -30,9 +30,13 @@ class CameraRenderer {
   CameraRenderer(const Scenario& scenario, std::uint64_t seed);
   const fw::CameraModel& model() const { return cam_; }
   // Renders the view from a robot at `pose` into `frame` (width/height set from the camera spec).
-  void render(const Pose2& pose, hal::CameraFrame& frame);
+  // `as_rendered`: the caller vouches that `frame` holds this renderer's last render into it,
+  // untouched since; then only what that render drew on the floor is put back to floor.
+  void render(const Pose2& pose, hal::CameraFrame& frame, bool as_rendered = false);
   // Test only: render with the plain floor fill and texture walk the fast paths must equal.
   void use_reference_path(bool on) { reference_ = on; }
+  // Frames drawn over their predecessor (unfill) rather than on a whole floor fill.
+  std::uint64_t unfills() const { return unfills_; }
 
  private:
   struct Poly {
@@ -59,6 +63,9 @@ class CameraRenderer {
                       std::int64_t j, Vec2& world, Vec2& robot) const;
   // Sets every pixel of `img` to colour `c` (the bytes cv::Mat::setTo writes, without its loop).
   static void fill_floor(Rgb c, cv::Mat& img);
+  // Puts floor colour `c` back where the last frame drew (drawn_): the same bytes as fill_floor()
+  // on a frame holding that render.
+  void unfill(Rgb c, cv::Mat& img) const;
   // Whether a floor disc at robot-frame (x, y) of radius r [m] can put a pixel in the image.
   bool may_show(double x, double y, double r) const;
 
@@ -87,6 +94,21 @@ class CameraRenderer {
   std::mt19937_64 rng_;
   CameraEffects effects_;  // exposure and glare
   std::uint64_t frames_ = 0;
+  // What the last frame drew over the floor, for unfill(): each polygon's vertices (drawn_pts_
+  // from `first`, n of them) and the pixel box holding every pixel it set (a polygon's fill and
+  // outline stay within its rounded vertices' box; one pixel more is kept), or the glare's box
+  // (n = 0). drawn_frame_: the buffer it was drawn into (null when none is kept: noise touched
+  // every pixel), drawn_floor_ the floor colour under it.
+  struct Drawn {
+    std::uint32_t first, n;
+    int x0, y0, x1, y1;
+  };
+  std::vector<Drawn> drawn_;
+  std::vector<FixedPt> drawn_pts_;
+  bool keep_drawn_ = false;
+  std::uint64_t unfills_ = 0;
+  const std::uint8_t* drawn_frame_ = nullptr;
+  Rgb drawn_floor_{};
 };
 
 // The firmware configuration's own mapping, so the rendered image is the one it expects.

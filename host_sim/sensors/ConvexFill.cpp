@@ -281,4 +281,20 @@ void fill_convex_poly(std::uint8_t* bgr, int width, int height, const FixedPt* v
   }
 }
 
+void fill_rect(std::uint8_t* bgr, int width, int height, int x0, int y0, int x1, int y1,
+               std::uint8_t b, std::uint8_t g, std::uint8_t r) {
+  x0 = std::max(x0, 0);
+  y0 = std::max(y0, 0);
+  x1 = std::min(x1, width - 1);
+  y1 = std::min(y1, height - 1);
+  if (x0 > x1 || y0 > y1) return;
+  Canvas c{bgr, width, height, std::size_t(width) * 3, {b, g, r}, {}};
+  for (int k = 0; k < 48; k += 3) {
+    c.pat[k] = b;
+    c.pat[k + 1] = g;
+    c.pat[k + 2] = r;
+  }
+  for (int y = y0; y <= y1; ++y) span(c, bgr + std::size_t(y) * c.step, x0, x1);
+}
+
 }  // namespace carril::sim

@@ -23,4 +23,9 @@ inline constexpr int kFillShift = 4;  // fractional bits of FixedPt coordinates
 void fill_convex_poly(std::uint8_t* bgr, int width, int height, const FixedPt* pts, int n,
                       std::uint8_t b, std::uint8_t g, std::uint8_t r);
 
+// Fills pixels x0..x1 of rows y0..y1 (inclusive, clipped to the image) with colour (b, g, r), on
+// the same kind of image as fill_convex_poly.
+void fill_rect(std::uint8_t* bgr, int width, int height, int x0, int y0, int x1, int y1,
+               std::uint8_t b, std::uint8_t g, std::uint8_t r);
+
 }  // namespace carril::sim

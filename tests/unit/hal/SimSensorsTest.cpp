@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
 #include <memory>
 
 #include "hal/sim/SimDevices.hpp"
@@ -175,6 +176,27 @@ TEST(SimDevicesCameraTest, FrozenFaultRepeatsTheLastImageWithFreshStamps) {
   cam.back_buffer().pixel(3, 4)[0] = 99;
   cam.publish(3'000);
   EXPECT_EQ(cam.latest()->pixel(3, 4)[0], 99);
+}
+
+// The back buffer is vouched for as the renderer left it only after a publish that did not write
+// into it or resize it: none before the first, none after a blank, frozen or resized frame.
+TEST(SimDevicesCameraTest, BackBufferAsRenderedOnlyAfterPublishesThatLeaveIt) {
+  SimCamera cam;
+  cam.back_buffer().width = 64;
+  cam.back_buffer().height = 48;
+  EXPECT_FALSE(cam.back_buffer_as_rendered());
+  const SimSensorFault faults[] = {SimSensorFault::None,   SimSensorFault::Silent,
+                                   SimSensorFault::Blank,  SimSensorFault::None,
+                                   SimSensorFault::Frozen, SimSensorFault::WrongSize,
+                                   SimSensorFault::None};
+  const bool expected[] = {true, true, false, true, false, false, true};
+  for (std::size_t i = 0; i < std::size(faults); ++i) {
+    cam.back_buffer().width = 64;  // as a renderer sets them
+    cam.back_buffer().height = 48;
+    cam.inject_fault(faults[i]);
+    cam.publish(TimeNs(1'000 * (i + 1)));
+    EXPECT_EQ(cam.back_buffer_as_rendered(), expected[i]) << i;
+  }
 }
 
 class SimDevicesScannerGarbage : public testing::TestWithParam<SimSensorFault> {};

@@ -254,7 +254,10 @@ TEST(CameraRendererTest, FastPathsEqualReferenceByteForByte) {
   };
   std::mt19937_64 rng(2024);
   auto fast = std::make_unique<hal::CameraFrame>(), ref = std::make_unique<hal::CameraFrame>();
-  int frames = 0;
+  // A third renderer draws every frame over its own last one (as_rendered): only what that one
+  // drew is put back to floor first.
+  auto over = std::make_unique<hal::CameraFrame>();
+  int frames = 0, unfilled = 0;
   for (const Case& c : cases) {
     Scenario s = repo_scenario(c.file);
     if (c.speckle >= 0) s.floor_speckle = c.speckle;
@@ -270,19 +273,53 @@ TEST(CameraRendererTest, FastPathsEqualReferenceByteForByte) {
     cam.y_m += c.y_m;
     cam.width = c.width;
     cam.height = c.height;
-    CameraRenderer a(s, 3), b(s, 3);
+    CameraRenderer a(s, 3), b(s, 3), d(s, 3);
     b.use_reference_path(true);
+    const std::uint64_t unfills_before = d.unfills();
     for (int k = 0; k < 150; ++k) {
       const Pose2 pose = random_pose(s, rng);
       a.render(pose, *fast);
       b.render(pose, *ref);
-      ASSERT_EQ(0, std::memcmp(fast->bgr.data(), ref->bgr.data(),
-                               std::size_t(c.width) * std::size_t(c.height) * 3))
+      d.render(pose, *over, true);
+      const std::size_t bytes = std::size_t(c.width) * std::size_t(c.height) * 3;
+      ASSERT_EQ(0, std::memcmp(fast->bgr.data(), ref->bgr.data(), bytes))
           << c.file << " frame " << k << " pose " << pose.x << " " << pose.y << " " << pose.yaw_rad;
+      ASSERT_EQ(0, std::memcmp(over->bgr.data(), ref->bgr.data(), bytes))
+          << c.file << " frame " << k << " drawn over the last";
       ++frames;
     }
+    // Every frame after the first is drawn over its predecessor, unless noise touched every pixel.
+    EXPECT_EQ(d.unfills() - unfills_before, c.noise > 0 ? 0U : 149U) << c.file;
+    unfilled += int(d.unfills() - unfills_before);
   }
   EXPECT_EQ(frames, 9 * 150);
+  EXPECT_EQ(unfilled, 7 * 149);
+}
+
+// A frame drawn over is only trusted when the caller vouches for it: a buffer written to since
+// (here, painted white) and not vouched for is filled whole, and equals a fresh render.
+TEST(CameraRendererTest, AFrameNotVouchedForIsFilledWhole) {
+  Scenario s = repo_scenario("circle.yaml");
+  s.glare.intensity = 40;
+  CameraRenderer a(s, 5), b(s, 5);
+  auto over = std::make_unique<hal::CameraFrame>(), fresh = std::make_unique<hal::CameraFrame>();
+  const std::size_t bytes = std::size_t(s.robot.camera.width) * s.robot.camera.height * 3;
+  std::mt19937_64 rng(7);
+  for (int k = 0; k < 40; ++k) {
+    const Pose2 pose = random_pose(s, rng);
+    const bool tampered = k % 5 == 4;
+    if (tampered) std::memset(over->bgr.data(), 255, bytes);
+    a.render(pose, *over, !tampered);
+    b.render(pose, *fresh);
+    ASSERT_EQ(0, std::memcmp(over->bgr.data(), fresh->bgr.data(), bytes)) << "frame " << k;
+  }
+  EXPECT_EQ(a.unfills(), 39U - 8U);  // all but the first and the 8 tampered ones
+  // Vouching for a tampered buffer is the caller's error, and shows: the paint stays.
+  std::memset(over->bgr.data(), 255, bytes);
+  const Pose2 pose = random_pose(s, rng);
+  a.render(pose, *over, true);
+  b.render(pose, *fresh);
+  EXPECT_NE(0, std::memcmp(over->bgr.data(), fresh->bgr.data(), bytes));
 }
 
 }  // namespace
