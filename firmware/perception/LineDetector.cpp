@@ -245,8 +245,9 @@ long classify_sparse(const std::uint8_t* img, int width, const std::uint8_t* lut
 
 // The floor box (FloorBox.hpp) at d = 2: grown from the floor's colour, taken as the most common
 // table index among the clear blocks of a grid over the frame, and grown again when most runs of
-// samples fall outside it, at most once every kBoxRetry frames: growing reads up to
-// kBoxWidth^3 + 6 kBoxWidth^2 table cells (some 40 us on the host).
+// samples fall outside it, at most once every kBoxRetry frames: growing reads at most
+// kBoxWidth^3 + 6 kBoxWidth^2 table cells (14 to 27 us on average on the host, over 2,197 seeds
+// for each of four colour pairs).
 constexpr int kBoxWidth = 32;  // [6-bit levels] at most half of each channel's range
 constexpr int kBoxRetry = 30;  // [frames]
 
