@@ -435,14 +435,20 @@ void check_sparse(int decimation, double noise) {
   }
 }
 
+// The campero's camera over a floor with the only tape far out of view: the tests paint their own
+// frames and need the camera model.
+sim::Scenario no_tape_in_view(const char* name) {
+  FrameCase fc{
+      name,    "campero", "{color: white, points: [[-20, -20], [-19, -20]]}", "", 0, 0, 0, 0,
+      "white", true};
+  return make_scenario(fc);
+}
+
 // A band of end-mark colour along the bottom edge, only as tall as the two last rows of cells:
 // the cleanup keeps it (erosion counts outside the image as set), and so must the sparse pass,
 // although every third row of cells (the last sampled one at 237 of 240) misses it.
 TEST(LineDetectorTest, SparseClassificationSeesABandAlongTheBottomEdge) {
-  FrameCase fc{
-      "edge",  "campero", "{color: white, points: [[-20, -20], [-19, -20]]}", "", 0, 0, 0, 0,
-      "white", true};
-  const sim::Scenario s = make_scenario(fc);
+  const sim::Scenario s = no_tape_in_view("edge");
   sim::CameraRenderer renderer(s, 1);
   for (const int d : {2, 4}) {
     SCOPED_TRACE(d);
@@ -476,10 +482,7 @@ TEST(LineDetectorTest, SparseClassificationSeesABandAlongTheBottomEdge) {
 // just outside the box the detector grew from a flat floor must be found as the whole frame finds
 // it (a box one level wider on each side skips every run over it).
 TEST(LineDetectorTest, FloorBoxSkipsNoBlockOfEitherColour) {
-  FrameCase fc{
-      "flat",  "campero", "{color: white, points: [[-20, -20], [-19, -20]]}", "", 0, 0, 0, 0,
-      "white", true};
-  const sim::Scenario s = make_scenario(fc);
+  const sim::Scenario s = no_tape_in_view("flat");
   sim::CameraRenderer renderer(s, 1);
   const fw::LineDetectorConfig cfg = config_for("white", 2);
   std::vector<std::uint8_t> t(fw::color_lut::kSize);
