@@ -79,6 +79,18 @@ bool clip_line(i64 right, i64 bottom, i64& x1, i64& y1, i64& x2, i64& y2) {
   return (c1 | c2) == 0;
 }
 
+// A continuous width x height BGR image to fill in colour (b, g, r), its span pattern made.
+Canvas canvas(std::uint8_t* bgr, int width, int height, std::uint8_t b, std::uint8_t g,
+              std::uint8_t r) {
+  Canvas c{bgr, width, height, std::size_t(width) * 3, {b, g, r}, {}};
+  for (int k = 0; k < 48; k += 3) {
+    c.pat[k] = b;
+    c.pat[k + 1] = g;
+    c.pat[k + 2] = r;
+  }
+  return c;
+}
+
 // The colour as two scalars the compiler can keep in registers across a loop of byte stores
 // (stores through uint8_t* may alias the Canvas, so its bytes would be reloaded every pixel).
 struct Colour3 {
@@ -194,12 +206,7 @@ void fill_convex_poly(std::uint8_t* bgr, int width, int height, const FixedPt* v
       ymin >= i64(height) << kFillShift) {
     return;
   }
-  Canvas c{bgr, width, height, std::size_t(width) * 3, {b, g, r}, {}};
-  for (int k = 0; k < 48; k += 3) {
-    c.pat[k] = b;
-    c.pat[k + 1] = g;
-    c.pat[k + 2] = r;
-  }
+  const Canvas c = canvas(bgr, width, height, b, g, r);
   // The outline first, from the last vertex round to it, as OpenCV draws it.
   i64 px = i64(v[n - 1].x) << kUp, py = i64(v[n - 1].y) << kUp;
   for (int i = 0; i < n; ++i) {
@@ -288,12 +295,7 @@ void fill_rect(std::uint8_t* bgr, int width, int height, int x0, int y0, int x1,
   x1 = std::min(x1, width - 1);
   y1 = std::min(y1, height - 1);
   if (x0 > x1 || y0 > y1) return;
-  Canvas c{bgr, width, height, std::size_t(width) * 3, {b, g, r}, {}};
-  for (int k = 0; k < 48; k += 3) {
-    c.pat[k] = b;
-    c.pat[k + 1] = g;
-    c.pat[k + 2] = r;
-  }
+  const Canvas c = canvas(bgr, width, height, b, g, r);
   for (int y = y0; y <= y1; ++y) span(c, bgr + std::size_t(y) * c.step, x0, x1);
 }
 
