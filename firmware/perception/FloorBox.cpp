@@ -29,8 +29,7 @@ bool face_clear(const std::uint8_t* lut, const int lo[3], const int hi[3], int a
 }  // namespace
 
 FloorBox FloorBox::grow(const std::uint8_t* lut, std::uint32_t seed, int max_width) {
-  FloorBox box;
-  if (seed >= color_lut::kSize || lut[seed] != 0 || max_width < 1) return box;
+  if (seed >= color_lut::kSize || lut[seed] != 0 || max_width < 1) return FloorBox{};
   constexpr std::uint32_t kMask = kCells - 1;
   const int s[3] = {int(seed >> (2 * color_lut::kBits)), int((seed >> color_lut::kBits) & kMask),
                     int(seed & kMask)};
@@ -57,13 +56,12 @@ FloorBox FloorBox::grow(const std::uint8_t* lut, std::uint32_t seed, int max_wid
       }
     }
   }
-  box.valid_ = true;
+  std::uint8_t lo_bytes[3], hi_bytes[3];
   for (int c = 0; c < 3; ++c) {
-    box.lo_[c] = std::uint8_t(4 * lo[c]);
-    box.hi_[c] = std::uint8_t(4 * hi[c] + 3);
+    lo_bytes[c] = std::uint8_t(4 * lo[c]);
+    hi_bytes[c] = std::uint8_t(4 * hi[c] + 3);
   }
-  box.set_bounds();
-  return box;
+  return of_bytes(lo_bytes, hi_bytes);
 }
 
 FloorBox FloorBox::of_bytes(const std::uint8_t lo[3], const std::uint8_t hi[3]) {

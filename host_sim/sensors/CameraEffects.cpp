@@ -59,7 +59,11 @@ void CameraEffects::apply(hal::CameraFrame& frame, std::uint64_t frame_index) co
 bool CameraEffects::glare_box(std::uint64_t frame_index, int width, int height, int& u0, int& u1,
                               int& v0, int& v1) const {
   if (intensity_ <= 0.0) return false;
-  const int uc = glare_u(frame_index, width);
+  return box_round(glare_u(frame_index, width), width, height, u0, u1, v0, v1);
+}
+
+bool CameraEffects::box_round(int uc, int width, int height, int& u0, int& u1, int& v0,
+                              int& v1) const {
   u0 = std::max(0, uc - reach_);
   u1 = std::min(width - 1, uc + reach_);
   v0 = std::max(0, v_ - reach_);
@@ -71,8 +75,9 @@ void CameraEffects::apply_glare(hal::CameraFrame& frame, std::uint64_t frame_ind
   const int w = frame.width, h = frame.height;
   std::uint8_t* d = frame.bgr.data();
   int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
-  if (!glare_box(frame_index, w, h, u0, u1, v0, v1)) return;
+  if (intensity_ <= 0.0) return;
   const int uc = glare_u(frame_index, w), vc = v_, side = 2 * reach_ + 1;
+  if (!box_round(uc, w, h, u0, u1, v0, v1)) return;
   // Byte by byte over each row's span (the patch holds every level three times, B, G and R): a
   // saturating add, sixteen bytes at a time.
   const std::size_t n = std::size_t(u1 - u0 + 1) * 3;

@@ -42,6 +42,8 @@ class CameraEffects {
   // exp() per pixel per frame would slow the simulator ten times.
   int reach_ = 0;
   std::vector<std::uint8_t> patch_;
+  // glare_box() for a centre already worked out [px].
+  bool box_round(int uc, int width, int height, int& u0, int& u1, int& v0, int& v1) const;
 };
 
 }  // namespace carril::sim
