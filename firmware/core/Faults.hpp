@@ -28,6 +28,10 @@ enum class Fault : std::uint8_t {
                        // the robot's radius holds no cell where it fits)
   NotLocalised,        // on a map, the pose stayed unlocalised (the mission held) longer than
                        // runner.max_unlocalised_s
+  Stalled,             // the mission made no progress for runner.stall_timeout_s while not
+                       // deliberately waiting (turning in place at a fork, say)
+  MotionBlocked,       // no safe motion (every turn, pivot or leg the robot needs is blocked
+                       // on the costmap) for runner.blocked_timeout_s
   Count,
 };
 
@@ -71,6 +75,10 @@ inline const char* fault_name(Fault f) {
       return "no_coverage_area";
     case Fault::NotLocalised:
       return "not_localised";
+    case Fault::Stalled:
+      return "stalled";
+    case Fault::MotionBlocked:
+      return "motion_blocked";
     case Fault::Count:
       break;
   }

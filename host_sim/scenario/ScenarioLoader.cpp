@@ -409,7 +409,7 @@ ExpectSpec parse_expect(const Node& m) {
   }
   if (auto n = m.get("fault")) {
     e.fault = n->one_of({"no_path", "goal_invalid", "path_blocked", "line_not_found",
-                         "no_coverage_area", "not_localised"});
+                         "no_coverage_area", "not_localised", "stalled", "motion_blocked"});
   }
   if (auto n = m.get("min_coverage")) e.min_coverage = n->number(Range::closed(0.0, 1.0));
   if (auto n = m.get("max_coverage_time_ratio")) {
