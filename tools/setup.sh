@@ -19,6 +19,7 @@ packages=(
   clang libclang-rt-14-dev # libclang-rt-14-dev holds libFuzzer (-fsanitize=fuzzer)
   slurm-wlm munge
   python3
+  ccache # developers: cmake --preset host -DCMAKE_CXX_COMPILER_LAUNCHER=ccache rebuilds faster
   libboost-dev # Boost.Graph: the oracle of the wavefront planner's benchmark
 )
 missing=()
