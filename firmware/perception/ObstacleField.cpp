@@ -22,13 +22,42 @@ void ObstacleField::update(const hal::LaserScan& scan, const Pose2& odom) {
     const double sx = double(r) * beams_.cos(i);
     const double sy = double(r) * beams_.sin(i);
     const Vec2 robot(mx_ + c * sx - s * sy, my_ + s * sx + c * sy);
+    moving_[pts_.size()] = 0;
     pts_.push_back(frame.to_world(robot));
+  }
+  // The field of view, for sees(): from the first beam to the last, whichever way the scan turns.
+  const double a0 = double(scan.angle_min_rad);
+  const double a1 = a0 + double(scan.angle_increment_rad) * (n > 0 ? n - 1 : 0);
+  if (n > 1 && std::isfinite(a0) && std::isfinite(a1)) {
+    fov_min_rad_ = std::fmin(a0, a1);
+    fov_max_rad_ = std::fmax(a0, a1);
+    range_max_m_ = std::isfinite(scan.range_max_m) ? double(scan.range_max_m) : 0.0;
+  } else {
+    fov_min_rad_ = 0.0;
+    fov_max_rad_ = -1.0;
   }
   valid_ = true;
 }
 
+std::size_t ObstacleField::moving_count() const {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < pts_.size(); ++i) n += moving_[i];
+  return n;
+}
+
+bool ObstacleField::sees(const Vec2& p) const {
+  if (!(fov_max_rad_ >= fov_min_rad_)) return false;
+  const double dx = p.x() - mx_, dy = p.y() - my_;
+  if (dx * dx + dy * dy > range_max_m_ * range_max_m_) return false;
+  // The bearing relative to the mount, unwrapped into the field of view when it can be.
+  double a = wrap_angle(std::atan2(dy, dx) - myaw_);
+  if (a < fov_min_rad_) a += 2.0 * kPi;
+  if (a > fov_max_rad_) a -= 2.0 * kPi;
+  return a >= fov_min_rad_ && a <= fov_max_rad_;
+}
+
 double ObstacleField::corridor_m(const Pose2& odom, double margin_m, double max_m, double dir,
-                                 bool remembered) const {
+                                 bool remembered, bool static_only) const {
   double best = max_m;
   const double half_w = fp_.half_width_m + margin_m;
   const PoseFrame frame(odom);
@@ -39,15 +68,18 @@ double ObstacleField::corridor_m(const Pose2& odom, double margin_m, double max_
       best = std::fmin(best, along - fp_.half_length_m);
     }
   };
-  for (const Vec2& w : pts_) see(w);
+  for (std::size_t i = 0; i < pts_.size(); ++i) {
+    if (!static_only || moving_[i] == 0) see(pts_[i]);
+  }
   if (remembered) {
     for (const Vec2& w : memory_) see(w);
   }
   return best;
 }
 
-double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m) const {
-  return corridor_m(odom, margin_m, max_m, 1.0, false);
+double ObstacleField::ahead_m(const Pose2& odom, double margin_m, double max_m,
+                              bool static_only) const {
+  return corridor_m(odom, margin_m, max_m, 1.0, false, static_only);
 }
 
 double ObstacleField::behind_m(const Pose2& odom, double margin_m, double max_m) const {

@@ -39,10 +39,23 @@ class ObstacleField {
   bool valid() const { return valid_; }
   std::uint64_t invalid_beams() const { return invalid_beams_; }
   const StaticVector<Vec2, hal::kMaxScanBeams>& points() const { return pts_; }
+  // Point i lies where an older scan saw free space (MovingReturns): something moving, not a
+  // wall revealed by the robot's own motion.
+  bool moving(std::size_t i) const { return moving_[i] != 0; }
+  void set_moving(std::size_t i, bool m) { moving_[i] = m ? 1 : 0; }
+  std::size_t moving_count() const;
+  // The lidar sees a robot-frame point: its bearing from the mount lies within the last scan's
+  // field of view and it is nearer than the scan's range_max. False before the first scan.
+  bool sees(const Vec2& robot_point) const;
+  // The lidar's mount in the robot frame [m, m, rad].
+  double mount_x() const { return mx_; }
+  double mount_y() const { return my_; }
+  double mount_yaw() const { return myaw_; }
 
   // Free distance ahead of the front bumper inside a corridor as wide as the robot plus
-  // `margin_m` each side, up to `max_m` (returns max_m when clear) [m].
-  double ahead_m(const Pose2& odom, double margin_m, double max_m) const;
+  // `margin_m` each side, up to `max_m` (returns max_m when clear) [m]. With `static_only`,
+  // returns marked moving are left out.
+  double ahead_m(const Pose2& odom, double margin_m, double max_m, bool static_only = false) const;
   // The same behind the rear bumper, over this scan's points and the remembered ones (a 180 deg
   // lidar sees nothing behind); 0 when the memory overflowed [m].
   double behind_m(const Pose2& odom, double margin_m, double max_m) const;
@@ -72,8 +85,8 @@ class ObstacleField {
   double from_body_m(const Vec2& p) const;
   // Free distance from the front (dir +1) or rear (dir -1) bumper inside the corridor of
   // ahead_m, over this scan's points and, with `remembered`, the remembered ones [m].
-  double corridor_m(const Pose2& odom, double margin_m, double max_m, double dir,
-                    bool remembered) const;
+  double corridor_m(const Pose2& odom, double margin_m, double max_m, double dir, bool remembered,
+                    bool static_only = false) const;
   // Keeps the remembered points and the last scan's (pts_, before it is replaced) that are near
   // the robot at `odom`, outside its body, and not looked past by a beam of `scan`.
   void remember(const hal::LaserScan& scan, const Pose2& odom);
@@ -82,6 +95,9 @@ class ObstacleField {
   bool seen_past(const hal::LaserScan& scan, const PoseFrame& lidar, const Vec2& w) const;
 
   StaticVector<Vec2, hal::kMaxScanBeams> pts_;
+  std::array<std::uint8_t, hal::kMaxScanBeams> moving_{};
+  double fov_min_rad_ = 0.0, fov_max_rad_ = -1.0;  // last scan's beams, sensor frame [rad]
+  double range_max_m_ = 0.0;                       // [m]
   StaticVector<Vec2, kMaxRemembered> memory_;
   bool memory_full_ = false;
   BeamDirections beams_;  // no trigonometry per beam per scan

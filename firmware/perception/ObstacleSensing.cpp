@@ -8,17 +8,19 @@ Status ObstacleSensingConfig::validate() const {
       .range("x_m", x_m, -5.0, 5.0, "m")
       .range("y_m", y_m, -5.0, 5.0, "m")
       .range("yaw_rad", yaw_rad, -7.0, 7.0, "rad")
+      .range("reliable_range_m", reliable_range_m, 0.05, 100.0, "m")
       .nested(health.validate())
+      .nested(moving.validate())
       .result();
 }
 
 ObstacleSensing::ObstacleSensing(const ObstacleSensingConfig& cfg, const Topic<SensorFrame>& frame,
                                  const Topic<OdometryMsg>& odom, Topic<ObstacleField>& out,
                                  FaultSink& faults)
-    : health_(cfg.health), frame_(frame), odom_(odom), out_(out), faults_(faults) {}
+    : health_(cfg.health), moving_(cfg.moving, cfg.rate_hz), frame_(frame), odom_(odom), out_(out), faults_(faults) {}
 
 ObstacleSensingTelemetry ObstacleSensing::telemetry() const {
-  return {out_.get().invalid_beams(), health_.valid_fraction()};
+  return {out_.get().invalid_beams(), moving_returns_, health_.valid_fraction()};
 }
 
 void ObstacleSensing::run() {
@@ -27,7 +29,10 @@ void ObstacleSensing::run() {
   if (scan == nullptr || scan->seq == last_seq_) return;
   last_seq_ = scan->seq;
   if (!health_.add(*scan)) faults_.raise(Fault::ScannerBlind);
-  out_.edit().update(*scan, odom_.get().pose);
+  ObstacleField& field = out_.edit();
+  field.update(*scan, odom_.get().pose);
+  moving_.classify(*scan, odom_.get().pose, field);
+  moving_returns_ += field.moving_count();
   out_.publish(f.now_ns);
 }
 

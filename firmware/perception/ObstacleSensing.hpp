@@ -10,6 +10,7 @@
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorHealth.hpp"
+#include "firmware/perception/MovingReturns.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {
@@ -18,13 +19,16 @@ struct ObstacleSensingConfig {
   bool present = true;                         // a lidar is fitted
   double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;  // its mount in the robot frame [m, m, rad]
   double rate_hz = 20.0;                       // scan rate [Hz]
+  double reliable_range_m = 20.0;  // what the protective fields can count on it seeing [m]
   ScanHealthConfig health;
+  MovingReturnsConfig moving;  // which returns are something moving
 
   Status validate() const;
 };
 
 struct ObstacleSensingTelemetry {
   std::uint64_t invalid_beams = 0;   // NaN, inf, zero or out-of-limits ranges seen
+  std::uint64_t moving_returns = 0;  // returns marked moving, over every scan
   double scan_valid_fraction = 1.0;  // valid beams over the health window [0..1]
 };
 
@@ -39,6 +43,8 @@ class ObstacleSensing {
 
  private:
   ScanHealth health_;
+  MovingReturns moving_;
+  std::uint64_t moving_returns_ = 0;
   const Topic<SensorFrame>& frame_;
   const Topic<OdometryMsg>& odom_;
   Topic<ObstacleField>& out_;
