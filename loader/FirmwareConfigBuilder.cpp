@@ -46,6 +46,8 @@ const Source kSources[] = {
     {"lidar.yaw_rad", "lidar.yaw_deg", false},
     {"lidar.rate_hz", "lidar.rate_hz", false},
     {"robot.lidar.rate_hz", "lidar.rate_hz", false},
+    {"lidar.reliable_range_m", "lidar.reliable_range_m", false},
+    {"robot.limits.max_speed_mps", "limits.max_speed_mps", false},
     {"detector.line", "line_color", true},
     {"detector.end", "end_color", true},
     {"strategy.speed_mps", "speed_mps", true},
@@ -197,6 +199,7 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   c.drive = drive_geometry(r);
   c.footprint_length_m = r.length_m;
   c.footprint_width_m = r.width_m;
+  c.runner.check.round_body = r.round_body;
   c.limits.max_speed_mps = r.limits.max_speed_mps;
   c.limits.max_yaw_rate_radps = r.limits.max_yaw_rate_radps;
   c.limits.max_accel_mps2 = r.limits.max_accel_mps2;
@@ -208,6 +211,8 @@ BuildResult build_firmware_config(const RobotSpec& r, const MissionSpec& mission
   c.lidar.y_m = r.lidar.y_m;
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
   c.lidar.rate_hz = r.lidar.rate_hz;
+  c.lidar.reliable_range_m =
+      r.lidar.reliable_range_m > 0.0 ? r.lidar.reliable_range_m : r.lidar.range_max_m;
   c.watch.imu_present = r.imu.present;
   c.gyro_heading = r.imu.present && r.imu.gyro_heading;
   c.camera.detector.line = detector_threshold(mission.line_color_name, mission.line_color);

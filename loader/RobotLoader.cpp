@@ -77,13 +77,13 @@ void check_camera_view(const Node& where, const CameraSpec& c) {
 void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   if (all) {
     m.expect_map({"present", "x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m",
-                  "range_max_m", "rate_hz", "noise_std_m", "dropout"});
+                  "range_max_m", "reliable_range_m", "rate_hz", "noise_std_m", "dropout"});
     if (auto n = m.get("present")) l.present = n->boolean();
     // A lidar that is not fitted needs no mount: its other keys become optional.
     all = l.present;
   } else {
     m.expect_map({"x_m", "y_m", "yaw_deg", "fov_deg", "beams", "range_min_m", "range_max_m",
-                  "rate_hz", "noise_std_m", "dropout"});
+                  "reliable_range_m", "rate_hz", "noise_std_m", "dropout"});
   }
   if (auto n = m.get("x_m", all)) l.x_m = n->number(kMount);
   if (auto n = m.get("y_m", all)) l.y_m = n->number(kMount);
@@ -103,6 +103,16 @@ void parse_lidar(const Node& m, LidarSpec& l, bool all) {
   } else if (max_n && l.range_max_m <= l.range_min_m) {
     max_n->expected("a number in (range_min_m = " + strict::format_number(l.range_min_m) + ", 100]",
                     max_n->raw());
+  }
+  // Optional: what the datasheet says it detects reliably (a dark target), at most its range.
+  if (auto n = m.get("reliable_range_m")) {
+    l.reliable_range_m = n->number(Range::closed(0.0, 100.0));
+    if (l.reliable_range_m > l.range_max_m ||
+        (l.reliable_range_m > 0.0 && l.reliable_range_m <= l.range_min_m)) {
+      n->expected("a number in (range_min_m = " + strict::format_number(l.range_min_m) +
+                      ", range_max_m = " + strict::format_number(l.range_max_m) + "]",
+                  n->raw());
+    }
   }
   if (auto n = m.get("rate_hz", all)) l.rate_hz = n->number(Range::closed(1.0, 100.0));
   if (auto n = m.get("noise_std_m", all)) l.noise_std_m = n->number(Range::closed(0.0, 1.0));

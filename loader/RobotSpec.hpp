@@ -33,8 +33,11 @@ struct LidarSpec {
   double fov_deg = 270.0;       // field of view, centred on the mount heading [deg]
   int beams = 541;
   double range_min_m = 0.05, range_max_m = 20.0;  // [m]
-  double rate_hz = 20.0;                          // [Hz]
-  double noise_std_m = 0.0;                       // Gaussian range noise [m]
+  // How far it sees what the protective fields must see (a dark, matt person's legs): its
+  // datasheet's range at low remission; 0 in the file: range_max_m [m].
+  double reliable_range_m = 0.0;
+  double rate_hz = 20.0;        // [Hz]
+  double noise_std_m = 0.0;     // Gaussian range noise [m]
   double dropout = 0.0;  // simulated: fraction of beams with no return, drawn per beam [-]
 };
 

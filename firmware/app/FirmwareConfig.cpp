@@ -32,6 +32,7 @@ Status FirmwareConfig::validate() const {
         .fail_if(!mapping.enabled, "mapping.enabled", "must be true for coverage");
   }
   if (lidar.present) c.nested(lidar.validate());
+  c.nested(check_stopping_reach(*this));
   c.nested(localisation.validate());
   const bool have_map = map != nullptr && !map->empty();
   c.fail_if(localisation.enabled && !have_map, "localisation.enabled",
@@ -45,6 +46,33 @@ Status FirmwareConfig::validate() const {
   return c.result();
 }
 
+Status check_stopping_reach(const FirmwareConfig& c) {
+  const SafetyFieldsConfig& f = c.runner.fields;
+  if (!f.enabled || !c.lidar.present) return Status::ok();
+  const double v = c.limits.max_speed_mps;
+  const Footprint fp = c.footprint();
+  const double stop = f.stop_m(v);
+  if (f.max_field_m > 0.0 && stop > f.max_field_m) {
+    return Status::error(
+        "robot.limits.max_speed_mps: %g m/s needs a protective field of %.2f m (reaction %.3g s, "
+        "%g m/s^2, margin %g m), longer than runner.fields.max_field_m %g m",
+        v, stop, f.reaction_s(), f.decel_mps2, f.margin_m, f.max_field_m);
+  }
+  // The warning field's far corners, seen from the lidar.
+  const double ahead = fp.half_length_m + f.warning_m(v) - c.lidar.x_m;
+  const double side = fp.half_width_m + f.warning_side_m(v) + std::fabs(c.lidar.y_m);
+  const double reach = std::hypot(ahead, side);
+  if (reach > c.lidar.reliable_range_m) {
+    return Status::error(
+        "robot.limits.max_speed_mps: %g m/s needs its warning field to reach %.2f m from the lidar "
+        "(stop %.2f m: reaction %.3g s, %g m/s^2; a person at %g m/s), beyond "
+        "lidar.reliable_range_m %g m",
+        v, reach, stop, f.reaction_s(), f.decel_mps2, f.approach_speed_mps,
+        c.lidar.reliable_range_m);
+  }
+  return Status::ok();
+}
+
 void apply_sensor_rates(FirmwareConfig& c) {
   c.watch.camera_timeout_s = std::max(0.2, 3.0 / c.camera.rate_hz);
   c.watch.scanner_timeout_s = std::max(0.5, 5.0 / c.lidar.rate_hz);
@@ -53,6 +81,12 @@ void apply_sensor_rates(FirmwareConfig& c) {
   const int frames = static_cast<int>(std::lround(c.camera.rate_hz * 0.2));
   c.camera.health.blank_frames = std::max(frames, 2);
   c.watch.imu.max_yaw_rate_radps = 4.0 * c.limits.max_yaw_rate_radps;
+  // The protective fields react within a scan and a tick (plus the drive's latency), and stop at
+  // the limiter's deceleration.
+  c.runner.fields.scan_period_s = c.lidar.present ? 1.0 / c.lidar.rate_hz : 0.0;
+  c.runner.fields.tick_s = 1.0 / c.rate_hz;
+  c.runner.fields.decel_mps2 = c.limits.max_accel_mps2;
+  c.runner.check.yaw_decel_radps2 = c.limits.max_yaw_accel_radps2;
 }
 
 }  // namespace carril::fw

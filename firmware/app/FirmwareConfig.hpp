@@ -50,6 +50,11 @@ struct FirmwareConfig {
   Footprint footprint() const { return {0.5 * footprint_length_m, 0.5 * footprint_width_m}; }
 };
 
+// The robot can stop for what its lidar sees at its top speed: the protective field fits in
+// runner.fields.max_field_m (when set), and the warning field's far corners lie within the
+// lidar's reliable range. Part of validate().
+Status check_stopping_reach(const FirmwareConfig& c);
+
 // Sets what follows from the sensor rates and the robot's limits: three missed frames or five
 // missed scans are a dead device (at least 0.2 s and 0.5 s); a blind lidar within 0.25 s of
 // scans; six frames (0.2 s at 30 Hz) of one colour; an IMU yaw rate four times the robot's limit.

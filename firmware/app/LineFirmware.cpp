@@ -30,7 +30,10 @@ LineFirmware::LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock)
       output(cfg.limits, kinematics, 1.0 / cfg.rate_hz, bus.frame, bus.motion, bus.command,
              controller),
       cfg_(cfg) {
-  if (cfg.mapping.enabled) mission.set_costmap(&mapping);
+  if (cfg.mapping.enabled) {
+    mission.set_costmap(&mapping);
+    runner.set_costmap(&mapping);
+  }
   if (cfg.localisation.enabled) runner.watch_pose(bus.pose);
 }
 

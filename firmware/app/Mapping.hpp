@@ -81,6 +81,9 @@ class Mapping final : public CostmapView {
 
   const RollingGrid<std::uint8_t>& master() const override { return costmap_.master(); }
   const RollingGrid<std::uint8_t>& obstacles() const override { return costmap_.obstacle_layer(); }
+  const RollingGrid<std::uint8_t>* walls() const override {
+    return static_map_ != nullptr ? &static_layer_.grid() : nullptr;
+  }
   std::uint32_t updates() const override { return tel_.master_updates; }
 
   bool enabled() const { return cfg_.enabled; }

@@ -55,6 +55,11 @@ BypassPlan BypassPlanner::plan(const ObstacleField& f, const Pose2& odom, const 
   }
   // The far side is not seen yet: assume the obstacle is about as deep as it is wide.
   p.x_far = std::fmax(p.x_far, p.x_near + std::fmin(p.y_max - p.y_min, 3.0));
+  // Whatever else stands where the robot would rejoin the tape is passed in the same bypass.
+  if (!cover_rejoin(p, f, costmap)) {
+    p.blocked = true;
+    return p;
+  }
   // Room on each side: the nearest other thing beside the obstacle, along its length.
   double free_left = cfg_.max_lateral_m, free_right = cfg_.max_lateral_m;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -229,6 +234,69 @@ bool BypassPlanner::disc_clear(const Vec2& c, double radius,
   return true;
 }
 
+bool BypassPlanner::cover_rejoin(BypassPlan& p, const ObstacleField& f,
+                                 const RollingGrid<std::uint8_t>* costmap) const {
+  const TapeFrame tf = frame_of(p.origin, p.heading);
+  // The band the robot takes on the tape again, with its clearance each side, and how far along
+  // it needs to get back onto it: from the obstacle's far end, the clearance, a body length and
+  // the rejoin leg.
+  const double band = fp_.half_width_m + cfg_.clearance_m;
+  const double need = 2.0 * cfg_.clearance_m + 2.0 * fp_.half_length_m + 0.15;
+  const auto& pts = f.points();
+  for (int round = 0; round < kMaxMerges; ++round) {
+    const double x0 = p.x_far, x1 = p.x_far + need;
+    double far = p.x_far, y_min = p.y_min, y_max = p.y_max;
+    double near = 1e9, lo_y = 1e9, hi_y = -1e9;  // what was found this round
+    bool found = false;
+    const auto add = [&](const Vec2& q) {
+      found = true;
+      far = std::fmax(far, q.x());
+      near = std::fmin(near, q.x());
+      lo_y = std::fmin(lo_y, q.y());
+      hi_y = std::fmax(hi_y, q.y());
+    };
+    const auto take = [&](const Vec2& q) {
+      if (q.x() > x0 && q.x() <= x1 && std::fabs(q.y()) <= band) add(q);
+    };
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Vec2 q = tf.to(pts[i]);
+      if (q.x() <= x0 || q.x() > x1 || std::fabs(q.y()) > band) continue;
+      // The whole run of beams it belongs to (its far side, its width), as for the first one.
+      std::size_t lo = i, hi = i;
+      while (lo > 0 && (pts[lo - 1] - pts[lo]).norm() < 0.3) --lo;
+      while (hi + 1 < pts.size() && (pts[hi + 1] - pts[hi]).norm() < 0.3) ++hi;
+      for (std::size_t j = lo; j <= hi; ++j) add(tf.to(pts[j]));
+      i = hi;
+    }
+    if (costmap != nullptr && costmap->ready()) {
+      // The costmap holds what the scan cannot see now (behind the first obstacle, say): its
+      // lethal cells in the zone, over the zone's bounding box in the costmap's frame.
+      const Vec2 c[4] = {tf.from(x0, -band), tf.from(x0, band), tf.from(x1, -band),
+                         tf.from(x1, band)};
+      double ax = c[0].x(), bx = c[0].x(), ay = c[0].y(), by = c[0].y();
+      for (const Vec2& k : c) {
+        ax = std::fmin(ax, k.x());
+        bx = std::fmax(bx, k.x());
+        ay = std::fmin(ay, k.y());
+        by = std::fmax(by, k.y());
+      }
+      for (int cy = costmap->cell_of(ay); cy <= costmap->cell_of(by); ++cy) {
+        for (int cx = costmap->cell_of(ax); cx <= costmap->cell_of(bx); ++cx) {
+          if (!costmap->contains(cx, cy) || costmap->at(cx, cy) != cost::kLethal) continue;
+          take(tf.to(Vec2(costmap->center_of(cx), costmap->center_of(cy))));
+        }
+      }
+    }
+    if (!found) return true;
+    // Its far side unseen: as deep as it is wide, as for the first.
+    p.x_far = std::fmax(far, near + std::fmin(hi_y - lo_y, 3.0));
+    p.y_min = std::fmin(y_min, lo_y);
+    p.y_max = std::fmax(y_max, hi_y);
+    if (p.x_far - p.x_near > kMaxBypassM) return false;
+  }
+  return false;  // more than kMaxMerges obstacles in a row: not a bypass any more
+}
+
 void BypassPlanner::set_waypoints(BypassPlan& p, double x_robot) const {
   const TapeFrame tf = frame_of(p.origin, p.heading);
   const double past = p.x_far + cfg_.clearance_m + fp_.half_length_m;
@@ -238,7 +306,8 @@ void BypassPlanner::set_waypoints(BypassPlan& p, double x_robot) const {
   p.waypoints.push_back(tf.from(past + 0.15, 0.0));    // back onto the tape beyond it
 }
 
-void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p) const {
+void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p,
+                           const RollingGrid<std::uint8_t>* costmap) const {
   if (!p.ok) return;
   const TapeFrame tf = frame_of(p.origin, p.heading);
   // Points close round the known outline belong to the obstacle: what was hidden from the
@@ -253,13 +322,20 @@ void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p) const {
       y_max = std::fmax(y_max, q.y());
     }
   }
-  const bool deeper = far > p.x_far + 0.02;
+  // And whatever now shows where the robot would rejoin the tape (a second obstacle behind the
+  // first, hidden from the first view). Running on too far, it is left to the lane check.
+  BypassPlan q = p;
+  q.x_far = far;
+  q.y_min = y_min;
+  q.y_max = y_max;
+  if (!cover_rejoin(q, f, costmap)) q = p;
+  const bool deeper = q.x_far > p.x_far + 0.02;
   const bool wider =
-      (p.side > 0 && y_max > p.y_max + 0.01) || (p.side < 0 && y_min < p.y_min - 0.01);
+      (p.side > 0 && q.y_max > p.y_max + 0.01) || (p.side < 0 && q.y_min < p.y_min - 0.01);
   if (!deeper && !wider) return;
-  p.x_far = far;
-  p.y_min = y_min;
-  p.y_max = y_max;
+  p.x_far = q.x_far;
+  p.y_min = q.y_min;
+  p.y_max = q.y_max;
   // The lane only ever moves away from the obstacle.
   const double lane = p.side > 0 ? p.y_max + cfg_.clearance_m + fp_.half_width_m
                                  : p.y_min - cfg_.clearance_m - fp_.half_width_m;

@@ -65,11 +65,22 @@ class BypassPlanner {
   bool lane_clear(const BypassPlan& p, const Pose2& from, std::size_t first,
                   const RollingGrid<std::uint8_t>& costmap) const;
   static constexpr double kLaneStepM = 0.1;  // how far a blocked lane moves out per try [m]
-  // Extends `p` if a newer scan shows the obstacle reaching further along the tape.
-  void refine(const ObstacleField& f, BypassPlan& p) const;
+  // One bypass passes at most this many obstacles standing where the robot would rejoin the tape
+  // (each found extends it), over at most kMaxBypassM along the tape [m].
+  static constexpr int kMaxMerges = 8;
+  static constexpr double kMaxBypassM = 8.0;
+  // Extends `p` if a newer scan shows the obstacle reaching further along the tape, or another
+  // one (in the scan or the costmap) where the robot would rejoin the tape.
+  void refine(const ObstacleField& f, BypassPlan& p,
+              const RollingGrid<std::uint8_t>* costmap = nullptr) const;
 
  private:
   void set_waypoints(BypassPlan& p, double x_robot) const;
+  // Extends p's extent over every return and lethal cell standing in the band the robot would
+  // rejoin the tape on beyond p's far end, until that stretch is clear (the bypass then passes
+  // them all); false when the obstacles run on further than kMaxBypassM or kMaxMerges.
+  bool cover_rejoin(BypassPlan& p, const ObstacleField& f,
+                    const RollingGrid<std::uint8_t>* costmap) const;
   // The body's rectangle at c, facing u, grown by a margin: half length and half width [m].
   struct Rect {
     Vec2 c = Vec2::Zero(), u = Vec2::UnitX();

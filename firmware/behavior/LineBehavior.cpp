@@ -306,7 +306,7 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
     return out;
   }
   if (p == Phase::Bypass) {
-    if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_);
+    if (in.fresh_scan && waypoint_ <= 1) planner_.refine(*in.obstacles, plan_, in.costmap);
     // The costmap closes the lane ahead (the far side, now seen, meets a wall, or something
     // stands in the lane beyond what was seen at first): back out and try the other side, once,
     // while the robot is short of the obstacle's far end; otherwise stop here.

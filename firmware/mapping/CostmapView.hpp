@@ -15,6 +15,10 @@ class CostmapView {
   virtual const RollingGrid<std::uint8_t>& master() const = 0;
   // The 2D lidar's obstacle layer alone (lethal = a return was seen there).
   virtual const RollingGrid<std::uint8_t>& obstacles() const = 0;
+  // The static map's layer (lethal where the map is occupied), the same window as obstacles();
+  // nullptr off a map. With obstacles(), what a body can touch (master() adds terrain a wheel
+  // must not cross, and inflation).
+  virtual const RollingGrid<std::uint8_t>* walls() const { return nullptr; }
   // Increments at every rebuild of master(); 0 = never built.
   virtual std::uint32_t updates() const = 0;
 };

@@ -35,6 +35,8 @@ class BodyGuard {
 
   // The lethal cells of grid within the radius of pose, in the body frame. Never allocates.
   void gather(const Pose2& pose, const RollingGrid<std::uint8_t>& grid);
+  // Adds another grid's lethal cells to those gathered (a second layer of the same frame).
+  void add_cells(const Pose2& pose, const RollingGrid<std::uint8_t>& grid);
   // Adds points of another frame (`pose` is the body's pose in it) within the radius and outside
   // the body, as cells: lidar returns, which hold wherever the localisation puts the robot.
   void add_points(const Vec2* points, std::size_t count, const Pose2& pose);
@@ -66,6 +68,11 @@ class BodyGuard {
   // How far [m] the padded body can move along an arc of curvature k [1/m] (forward, or backward
   // with reverse) before it meets a cell, up to max_m (returned when nothing is met).
   double free_length(double k, bool reverse, double max_m) const;
+  // How far [m] the padded body travels driving the body-frame twist t (any mix of vx, vy and
+  // wz: a mecanum robot's strafe, an arc) before it meets a cell, up to max_m along its path;
+  // max_m when nothing is met. A twist with no translation travels nothing: 0 ... but then
+  // rotation_clear() is the question.
+  double free_travel(const Twist& t, double max_m) const;
   // The padded body can turn in place through angle_rad (its sign the direction) [rad], here or
   // moved shift_m straight ahead (behind when negative) [m].
   bool rotation_clear(double angle_rad, double shift_m = 0.0) const;
@@ -75,6 +82,29 @@ class BodyGuard {
   // back), or 0 when there is none.
   double escape_shift(double angle_rad, double step_m, double max_m, double min_free_m) const;
 
+  // The body is the disc inscribed in the rectangle (a round robot whose firmware footprint is
+  // the square round it): every check uses the disc from now on.
+  void set_round(bool round) { round_ = round; }
+  // A cell already within the padding at the current pose stops any motion that brings it nearer
+  // than by grazing (a quarter of the travel) or to within a centimetre of it (a rear corner
+  // swinging into a box beside it), not only one that meets the bare body.
+  void set_no_closer(bool on) { no_closer_ = on; }
+  // Points added from now on (add_points: lidar returns, a surface measured where it is) count
+  // as exact points, not as cells half a cell round them; gathered cells keep their half cell.
+  void set_exact_points(bool exact) { exact_points_ = exact; }
+  // Drops the gathered cells (not the points) for which keep(x, y) (body frame) is false: cells
+  // the lidar sees now, whose surfaces its returns give exactly.
+  template <typename Keep>
+  void keep_cells_if(Keep keep) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < cells_.size(); ++i) {
+      const Cell& k = cells_[i];
+      if (k.grow == 0.0F || keep(double(k.x), double(k.y))) cells_[n++] = k;
+    }
+    cells_.truncate(n);
+  }
+  // The radius gathered from now on [m].
+  void set_radius(double radius_m) { radius_ = radius_m; }
   std::size_t cells() const { return cells_.size(); }
   bool crowded() const { return crowded_; }
   double half_length() const { return hl_; }
@@ -87,14 +117,24 @@ class BodyGuard {
  private:
   struct Cell {
     float x, y;  // body frame [m]
+    float grow;  // how far round its centre it reaches: half a cell, or 0 for an exact point
   };
   // The cell lies in the body at (x, y, yaw) (body frame of the gather pose), grown by grow [m].
   bool inside(const Cell& c, double x, double y, double yaw, double grow) const;
   // Some cell meets the body at (x, y, yaw): the padding for cells clear of the body at (x0, 0,
-  // 0), half a cell for cells already inside it there.
-  bool hits(double x, double y, double yaw, double x0 = 0.0) const;
+  // 0), half a cell for cells already inside it there. With no_closer, `travel` is how far the
+  // motion has gone to get there [m] and `clear0` the body's clearance at (x0, y0) [m].
+  bool hits(double x, double y, double yaw, double x0 = 0.0, double y0 = 0.0, double travel = 0.0,
+            double clear0 = 0.0) const;
+  // How far outside the body at (x, y, yaw) the cell's reach is; 0 or less: in it [m].
+  double gap(const Cell& k, double x, double y, double yaw) const;
+  // The least gap over the cells, body at (x0, y0) unturned [m]; 1e300 with none.
+  double clearance_at(double x0, double y0) const;
 
   double hl_, hw_, pad_, radius_;
+  bool round_ = false;
+  bool exact_points_ = false;
+  bool no_closer_ = false;
   double half_cell_ = 0.0;  // of the grid last gathered [m]
   bool crowded_ = false;
   StaticVector<Cell, kMaxCells> cells_;

@@ -239,6 +239,7 @@ MissionState CoverageMission::state() const {
   switch (state_) {
     case State::Wait:
       s.status = MissionStatus::Starting;
+      s.waiting = true;  // for the drives and the first pose: a timeout of its own
       break;
     case State::Done:
       s.status = MissionStatus::Done;

@@ -1,6 +1,7 @@
 #include "firmware/mission/FollowLineMission.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace carril::fw {
 
@@ -108,6 +109,8 @@ MissionState FollowLineMission::state() const {
   switch (st) {
     case LineState::Start:
       s.status = MissionStatus::Starting;
+      // Waiting for the drives and sensors: behavior.init_timeout_s is its own limit.
+      s.waiting = std::strcmp(s.phase, "wait") == 0;
       break;
     case LineState::Follow:
     case LineState::Search:

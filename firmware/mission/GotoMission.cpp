@@ -135,6 +135,7 @@ MissionState GotoMission::state() const {
   switch (state_) {
     case State::Wait:
       s.status = MissionStatus::Starting;
+      s.waiting = true;  // for the drives and the first pose: a timeout of its own
       break;
     case State::Plan:
     case State::Follow:

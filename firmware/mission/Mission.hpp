@@ -45,6 +45,9 @@ struct MissionState {
   const char* name = "";   // e.g. "FOLLOW"
   const char* phase = "";  // e.g. "track"
   bool on_path = false;    // tracking its reference path (the simulator scores cross-track then)
+  // Deliberately standing still (waiting for the drives, for a path to clear): the runner's stall
+  // watch does not count it as a stall (the state has a timeout of its own).
+  bool waiting = false;
 };
 
 // A named count a mission keeps (e.g. line_lost_events); reported in telemetry and summaries.

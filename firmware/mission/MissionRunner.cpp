@@ -8,6 +8,11 @@ namespace carril::fw {
 Status MissionRunnerConfig::validate() const {
   return Checks("runner")
       .nested(obstacle.validate())
+      .nested(fields.validate())
+      .nested(check.validate())
+      .range("blocked_timeout_s", blocked_timeout_s, 0.1, 86400.0, "s")
+      .range("stall_timeout_s", stall_timeout_s, 0.0, 86400.0, "s")
+      .range("stall_progress_m", stall_progress_m, 0.01, 10.0, "m")
       .range("lost_turn_radps", lost_turn_radps, 0.0, 2.0, "rad/s")
       .range("lost_turn_clearance_m", lost_turn_clearance_m, 0.0, 1.0, "m")
       .range("max_unlocalised_s", max_unlocalised_s, 0.0, 86400.0, "s")
@@ -29,14 +34,89 @@ MissionRunner::MissionRunner(const MissionRunnerConfig& cfg, double period_s, in
       frame_(frame),
       out_(out),
       faults_(faults),
-      guard_(cfg.obstacle, obstacles, odom),
+      guard_(cfg.obstacle, cfg.fields, obstacles, odom),
       obstacles_(obstacles),
       odom_(odom),
       lost_turn_radps_(cfg.lost_turn_radps),
       lost_turn_clearance_m_(cfg.lost_turn_clearance_m),
       max_unlocalised_s_(cfg.max_unlocalised_s),
       explorer_(cfg.lost_explore, cfg.lost_turn_radps),
-      imu_present_(imu_present) {}
+      imu_present_(imu_present),
+      fields_(cfg.fields, obstacles.get().footprint(), cfg.check.round_body),
+      check_(cfg.check, cfg.fields, obstacles.get().footprint()),
+      blocked_timeout_s_(cfg.blocked_timeout_s),
+      stall_timeout_s_(cfg.stall_timeout_s),
+      stall_progress_m_(cfg.stall_progress_m) {}
+
+MotionRequest MissionRunner::safeguarded(const MotionRequest& want, bool& stopped) {
+  stopped = false;
+  MotionRequest m = want;
+  const Twist& t = odom_.get().twist;
+  const FieldVerdict v =
+      fields_.check(obstacles_.get(), odom_.get().pose, want.twist, std::hypot(t.vx, t.vy));
+  if (v.scale >= 1.0) return m;
+  if (v.blind) ++tel_.blind_ticks;
+  if (v.scale <= 0.0 || v.protective) {
+    ++tel_.field_stops;
+    tel_.last_stop = "field";
+    tel_.last_stopped = want.twist;
+    m.twist = {};
+    stopped = true;
+    return m;
+  }
+  ++tel_.field_slowdowns;
+  m.twist.vx *= v.scale;
+  m.twist.vy *= v.scale;
+  m.twist.wz *= v.scale;
+  return m;
+}
+
+MotionRequest MissionRunner::checked(const MotionRequest& want, bool& stopped) {
+  stopped = false;
+  const OdometryMsg& odom = odom_.get();
+  const Pose2& pose = pose_ != nullptr ? pose_->get().pose : odom.pose;
+  const MotionVerdict v = check_.check(want.twist, pose, obstacles_.get(), odom.pose,
+                                       std::hypot(odom.twist.vx, odom.twist.vy), odom.twist.wz);
+  MotionRequest m = want;
+  m.twist = v.twist;
+  if (!v.clear) {
+    ++tel_.check_stops;
+    tel_.last_stop = v.crowded ? "crowded" : v.turn ? "turn" : "path";
+    tel_.last_stopped = want.twist;
+    stopped = true;
+  } else if (v.alternative) {
+    ++tel_.check_alternatives;
+  } else if (v.scale < 1.0) {
+    ++tel_.check_slowdowns;
+  }
+  return m;
+}
+
+bool MissionRunner::blocked_for(bool stopped) {
+  blocked_s_ = stopped ? blocked_s_ + period_s_ : 0.0;
+  tel_.blocked_max_s = std::max(tel_.blocked_max_s, blocked_s_);
+  if (blocked_s_ <= blocked_timeout_s_) return true;
+  faults_.raise(Fault::MotionBlocked, 0, mission_.state().name);
+  return false;
+}
+
+bool MissionRunner::progressing(bool waiting, const char* state) {
+  const Pose2& p = odom_.get().pose;
+  const Vec2 here(p.x, p.y);
+  const MissionStatus st = mission_.state().status;
+  const bool busy = st == MissionStatus::Starting || st == MissionStatus::Active ||
+                    st == MissionStatus::Finishing;
+  if (!anchored_ || waiting || !busy || (here - stall_anchor_).norm() >= stall_progress_m_) {
+    stall_anchor_ = here;
+    anchored_ = true;
+    stall_s_ = 0.0;
+    return true;
+  }
+  stall_s_ += period_s_;
+  if (stall_timeout_s_ <= 0.0 || stall_s_ <= stall_timeout_s_) return true;
+  faults_.raise(Fault::Stalled, 0, state);
+  return false;
+}
 
 // The motion while the mission is held: still, or the explorer's turn in place when there is
 // room for one and its legs toward open space.
@@ -79,7 +159,8 @@ void MissionRunner::run() {
       out_.publish(MotionRequest{}, f.now_ns);
       return;
     }
-    const MotionRequest m = held();
+    bool stopped = false;
+    const MotionRequest m = safeguarded(held(), stopped);
     tel_.lost_legs = explorer_.legs();
     tel_.lost_backs = explorer_.backs();
     if (m.twist.vx != 0.0) {
@@ -112,10 +193,23 @@ void MissionRunner::run() {
   const char* was = mission_.state().name;
   MissionOutput o = mission_.update(ctx);
   if (o.fault != Fault::None) faults_.raise(o.fault, 0, was);
+  bool stopped = false;
   if (o.motion.guarded && guard_.ahead() &&
       (o.motion.twist.vx != 0.0 || o.motion.twist.vy != 0.0)) {
     o.motion.twist = {};
     ++tel_.obstacle_stops;
+    stopped = true;
+  }
+  bool cut = false;
+  o.motion = safeguarded(o.motion, cut);
+  stopped = stopped || cut;
+  if (!stopped) {
+    o.motion = checked(o.motion, cut);
+    stopped = cut;
+  }
+  if (!blocked_for(stopped) || !progressing(stopped || mission_.state().waiting, was)) {
+    out_.publish(MotionRequest{}, f.now_ns);
+    return;
   }
   out_.publish(o.motion, f.now_ns);
 }

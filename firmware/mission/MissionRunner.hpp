@@ -12,13 +12,28 @@
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mission/LostExplorer.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/mission/MotionCheck.hpp"
 #include "firmware/mission/ObstacleGuard.hpp"
+#include "firmware/mission/SafetyFields.hpp"
 #include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {
 
 struct MissionRunnerConfig {
   ObstacleStopConfig obstacle;
+  // The protective and warning fields every motion request passes through, whatever the mission.
+  SafetyFieldsConfig fields;
+  // The swept-footprint check of every motion (turns in place, arcs, strafes) on the costmap.
+  MotionCheckConfig check;
+  // A motion the fields or the motion checks keep stopped this long in a row gives up with the
+  // fault motion_blocked (the robot waits that long for a person to step aside) [s].
+  double blocked_timeout_s = 30.0;
+  // An active mission whose robot has not moved stall_progress_m from where it was this long,
+  // while it is not deliberately waiting (held stopped by the fields, unlocalised, or a mission
+  // state that waits), gives up with the fault stalled: a robot turning on the spot at a fork
+  // for ever is a fault an operator sees. 0: never [s].
+  double stall_timeout_s = 60.0;
+  double stall_progress_m = 0.3;  // [m]
   // While the pose is not localised the mission is held; the robot then turns in place at this
   // rate, so that a 2D lidar that sees only ahead shows the localisation the whole room, or
   // stands still at 0 [rad/s]. It turns only with room to turn (see lost_turn_clearance_m).
@@ -43,14 +58,25 @@ struct MissionRunnerConfig {
 };
 
 struct MissionRunnerTelemetry {
-  std::uint64_t obstacle_stops = 0;     // guarded motions the runner stopped for an obstacle
-  std::uint64_t unlocalised_ticks = 0;  // ticks the mission was held: pose not localised
-  std::uint64_t lost_turn_ticks = 0;    // of those, ticks turning in place to look round
-  std::uint64_t lost_drive_ticks = 0;   // of those, ticks driving a leg toward open space
-  std::uint32_t lost_legs = 0;          // legs started toward open space (LostExplorer)
-  std::uint32_t lost_backs = 0;         // legs backed along for room to turn (LostExplorer)
-  std::uint32_t relocalisations = 0;    // pose jumps passed on to the mission
-  bool stopped = false;                 // the mission was stopped by a fault (safe stop)
+  std::uint64_t obstacle_stops = 0;      // guarded motions the runner stopped for an obstacle
+  std::uint64_t unlocalised_ticks = 0;   // ticks the mission was held: pose not localised
+  std::uint64_t lost_turn_ticks = 0;     // of those, ticks turning in place to look round
+  std::uint64_t lost_drive_ticks = 0;    // of those, ticks driving a leg toward open space
+  std::uint32_t lost_legs = 0;           // legs started toward open space (LostExplorer)
+  std::uint32_t lost_backs = 0;          // legs backed along for room to turn (LostExplorer)
+  std::uint32_t relocalisations = 0;     // pose jumps passed on to the mission
+  std::uint64_t field_stops = 0;         // ticks the protective field stopped a motion
+  std::uint64_t field_slowdowns = 0;     // ticks the fields cut a motion's speed
+  std::uint64_t blind_ticks = 0;         // of those, ticks driving where the lidar does not see
+  std::uint64_t check_stops = 0;         // ticks a motion's swept footprint was not clear
+  std::uint64_t check_slowdowns = 0;     // ticks it was cut to a speed whose stop fits
+  std::uint64_t check_alternatives = 0;  // ticks the nearest clear motion replaced the request
+  double blocked_max_s = 0.0;            // the longest a motion was kept stopped [s]
+  // The last motion stopped, and by what: "field" (a return in the protective field), "turn"
+  // (a turn on the spot's swept circle not clear), "path" (an arc's or a strafe's), "crowded".
+  const char* last_stop = "";
+  Twist last_stopped;
+  bool stopped = false;  // the mission was stopped by a fault (safe stop)
 };
 
 class MissionRunner {
@@ -63,6 +89,8 @@ class MissionRunner {
   // The pose the mission drives by (the map-frame pose): while it is not localised the runner
   // holds the robot still and does not update the mission (it would drive by a wrong pose).
   void watch_pose(const Topic<OdometryMsg>& pose) { pose_ = &pose; }
+  // The costmap every motion is checked on (in the pose's frame); nullptr: the lidar alone.
+  void set_costmap(const CostmapView* c) { check_.set_costmap(c); }
 
   // Task: one mission update (or the safe stop).
   void run();
@@ -88,10 +116,25 @@ class MissionRunner {
   std::uint32_t seen_relocalisations_ = 0;
   LostExplorer explorer_;
   MotionRequest held();
+  // The request through the protective fields (cut or stopped); `stopped` when it was stopped.
+  MotionRequest safeguarded(const MotionRequest& want, bool& stopped);
+  // The request through the swept-footprint check (cut, or stopped: `stopped`).
+  MotionRequest checked(const MotionRequest& want, bool& stopped);
+  // Counts a stopped motion; false (fault raised) when it has been stopped too long.
+  bool blocked_for(bool stopped);
+  // Counts time without progress; false (fault raised) when the mission has stalled.
+  bool progressing(bool waiting, const char* state);
   bool entered_ = false;
   bool imu_present_;
   bool imu_seen_ = false;
   MissionRunnerTelemetry tel_;
+  SafetyFields fields_;
+  MotionCheck check_;
+  double blocked_timeout_s_, stall_timeout_s_, stall_progress_m_;
+  double blocked_s_ = 0.0;
+  double stall_s_ = 0.0;
+  Vec2 stall_anchor_ = Vec2::Zero();
+  bool anchored_ = false;
 };
 
 }  // namespace carril::fw

@@ -1,5 +1,7 @@
 #include "firmware/mission/ObstacleGuard.hpp"
 
+#include <cmath>
+
 #include "firmware/mission/Mission.hpp"
 
 namespace carril::fw {
@@ -11,10 +13,18 @@ Status ObstacleStopConfig::validate() const {
       .result();
 }
 
+double ObstacleGuard::trigger_m() const {
+  const Twist& t = odom_.get().twist;
+  const double v = std::hypot(t.vx, t.vy);
+  return cfg_.stop_m + (fields_.enabled ? fields_.stop_m(v) - fields_.margin_m : 0.0);
+}
+
 bool ObstacleGuard::ahead() const {
   if (!known_) {
     const ObstacleField& f = obstacles_.get();
-    ahead_ = f.valid() && f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, 5.0) < cfg_.stop_m;
+    const double reach = trigger_m();
+    ahead_ = f.valid() && f.ahead_m(odom_.get().pose, cfg_.corridor_margin_m, reach + 1.0,
+                                    fields_.enabled) < reach;
     known_ = true;
   }
   return ahead_;

@@ -114,6 +114,7 @@ MissionState WaypointMission::state() const {
   switch (state_) {
     case State::Wait:
       s.status = MissionStatus::Starting;
+      s.waiting = true;  // for the drives and the first pose: a timeout of its own
       break;
     case State::Drive: {
       const bool last = laps_done_ + 1 >= cfg_.laps && target_ + 1 >= cfg_.targets.size();

@@ -270,6 +270,16 @@ RunSummary SimRun::summary(double wall_time_s) {
                                {"lost_legs", long(all.runner.lost_legs)},
                                {"lost_backs", long(all.runner.lost_backs)}};
   }
+  const fw::MissionRunnerTelemetry& rt = all.runner;
+  r.safety_counters = {{"obstacle_stops", long(rt.obstacle_stops)},
+                       {"field_stops", long(rt.field_stops)},
+                       {"field_slowdowns", long(rt.field_slowdowns)},
+                       {"blind_ticks", long(rt.blind_ticks)},
+                       {"check_stops", long(rt.check_stops)},
+                       {"check_slowdowns", long(rt.check_slowdowns)},
+                       {"check_alternatives", long(rt.check_alternatives)},
+                       {"moving_returns", long(all.obstacles.moving_returns)}};
+  r.blocked_max_s = rt.blocked_max_s;
   r.mission = all.mission;
   for (const fw::MissionCounter& c : all.mission_counters) {
     r.mission_counters.emplace_back(c.name, long(c.value));

@@ -151,6 +151,12 @@ std::string summary_to_json(const RunSummary& s) {
     w.raw("localisation_counters", counters.finish_inline());
   }
   {
+    json::ObjectWriter counters;
+    for (const auto& [name, value] : s.safety_counters) counters.integer(name, value);
+    counters.num("blocked_max_s", s.blocked_max_s);
+    w.raw("safety_counters", counters.finish_inline());
+  }
+  {
     json::ObjectWriter tasks;
     for (const RunSummary::TaskTime& t : s.tasks) {
       json::ObjectWriter one;

@@ -74,6 +74,11 @@ struct RunSummary {
   // The firmware's localisation counters (empty without a map): lost, lost_by_fit,
   // relocalisations, spreads, wrong_convergences (LocalisationTelemetry).
   std::vector<std::pair<std::string, long>> localisation_counters;
+  // What the protective fields and the motion checks did (MissionRunnerTelemetry): ticks a
+  // motion was stopped or cut by each, ticks driven where the lidar does not see, lidar returns
+  // marked moving; and the longest a motion was kept stopped [s].
+  std::vector<std::pair<std::string, long>> safety_counters;
+  double blocked_max_s = 0.0;
   // coverage (null for other missions): the swept fraction of the area a robot of this size can
   // sweep from its start, the fraction of swept cells swept more than once, that area, the lower
   // bound on the time (area / (tool width x speed)) and the run's time over it.

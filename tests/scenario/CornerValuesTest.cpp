@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -63,6 +64,9 @@ using Edits = std::vector<std::pair<std::string, std::string>>;
 struct Corner {
   std::string name;
   Edits preset, scenario;
+  // Not empty: the value passes its own check, but the robot as a whole is refused at load with
+  // this in the message (a lidar that cannot see as far as the robot needs to stop).
+  std::string refused = {};
 };
 
 std::ostream& operator<<(std::ostream& os, const Corner& c) {
@@ -85,6 +89,7 @@ struct Range2 {
   char file;
   std::string name, from, key, lo, hi;
   Edits lo_p = {}, lo_s = {}, hi_p = {}, hi_s = {};
+  std::string lo_refused = {}, hi_refused = {};
 };
 
 std::vector<Corner> corners() {
@@ -112,7 +117,8 @@ std::vector<Corner> corners() {
        "5",
        {},
        {},
-       {{"max_speed_mps: 1.5", "max_speed_mps: 5"}}},
+       // 5 m/s needs a warning field of 23 m: a lidar that sees 30 m.
+       {{"max_speed_mps: 1.5", "max_speed_mps: 5"}, {"range_max_m: 20.0", "range_max_m: 30.0"}}},
       // Camera.
       {'P', "camera_x", "x_m: 0.49", "x_m: ", "-5", "5"},
       {'P', "camera_y", "y_m: 0.01", "y_m: ", "-5", "5"},
@@ -152,7 +158,10 @@ std::vector<Corner> corners() {
       {'P', "lidar_fov", "fov_deg: 270.0", "fov_deg: ", "1", "360"},
       {'P', "lidar_beams", "beams: 541", "beams: ", "2", "2048"},
       {'P', "lidar_range_min", "range_min_m: 0.05", "range_min_m: ", "0", "10"},
-      {'P', "lidar_range_max", "range_max_m: 20.0", "range_max_m: ", "0.5", "100"},
+      // A 0.5 m lidar sees less than campero's warning field even standing (1.06 m to its far
+      // corner from the lidar): refused with the numbers, at any speed.
+      {'P', "lidar_range_max", "range_max_m: 20.0", "range_max_m: ", "0.5", "100", {}, {}, {}, {},
+       "beyond lidar.reliable_range_m 0.5 m"},
       // range_min_m < range_max_m: the nearest accepted value below the open bound.
       {'P',
        "lidar_range_min_below_max",
@@ -162,7 +171,10 @@ std::vector<Corner> corners() {
        "0.49999999999999994",
        {},
        {},
-       {{"range_max_m: 20.0", "range_max_m: 0.5"}}},
+       {{"range_max_m: 20.0", "range_max_m: 0.5"}},
+       {},
+       {},
+       "beyond lidar.reliable_range_m 0.5 m"},
       {'P', "lidar_rate", "rate_hz: 20", "rate_hz: ", "1", "100"},
       {'P', "lidar_noise", "noise_std_m: 0.01", "noise_std_m: ", "0", "1"},
       // Limits.
@@ -173,9 +185,12 @@ std::vector<Corner> corners() {
        "0.05",
        "5",
        {{"cruise_speed_mps: 0.5", "cruise_speed_mps: 0.05"}},
-       {{"speed_mps: 0.3", "speed_mps: 0.05"}}},
+       {{"speed_mps: 0.3", "speed_mps: 0.05"}},
+       {{"range_max_m: 20.0", "range_max_m: 30.0"}}},
       {'P', "max_yaw_rate", "max_yaw_rate_radps: 1.5", "max_yaw_rate_radps: ", "0.05", "10"},
-      {'P', "max_accel", "max_accel_mps2: 1.0", "max_accel_mps2: ", "0.05", "20"},
+      // Braking at 0.05 m/s^2 from 1.5 m/s takes 22.5 m: a slow robot (0.3 m/s: 10.8 m).
+      {'P', "max_accel", "max_accel_mps2: 1.0", "max_accel_mps2: ", "0.05", "20",
+       {{"max_speed_mps: 1.5", "max_speed_mps: 0.3"}, {"cruise_speed_mps: 0.5", "cruise_speed_mps: 0.3"}}},
       {'P',
        "max_wheel_speed",
        "max_wheel_speed_radps: 12.0",
@@ -327,6 +342,7 @@ std::vector<Corner> corners() {
       own.emplace_back(r.from, r.key + (hi ? r.hi : r.lo));
       for (const auto& e : hi ? r.hi_p : r.lo_p) c.preset.push_back(e);
       for (const auto& e : hi ? r.hi_s : r.lo_s) c.scenario.push_back(e);
+      c.refused = hi ? r.hi_refused : r.lo_refused;
       out.push_back(std::move(c));
     }
   }
@@ -345,6 +361,17 @@ TEST_P(CornerValues, LoadsAndRunsOneSecond) {
   { std::ofstream(path) << apply(kScenario, c.scenario); }
   LoadResult r = load_scenario(path, dir.string());
   ASSERT_TRUE(r.ok) << r.error;
+  if (!c.refused.empty()) {
+    // The firmware's configuration is checked as a whole when the run is built, before any tick.
+    try {
+      SimRun refused(r.scenario, r.scenario.seed);
+      ADD_FAILURE() << "accepted; expected a refusal with: " << c.refused;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(c.refused), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+    return;
+  }
   r.scenario.duration_s = 1.0;
   SimRun run(r.scenario, r.scenario.seed);
   while (run.step()) {

@@ -314,5 +314,36 @@ TEST_F(BypassPlannerTest, AnObstacleBeyondTheLookaheadIsNotPlannedRound) {
   EXPECT_TRUE(further.plan(field_of(w, Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0).ok);
 }
 
+// Two boxes 0.6 m apart on the tape: no room to rejoin between them (a body length and the
+// clearance each side), so one bypass passes both, its far end beyond the second (issue 46).
+TEST_F(BypassPlannerTest, AnObstacleWhereTheRobotWouldRejoinIsPassedInTheSameBypass) {
+  World w;
+  add_box(w, 1.0, 1.5, -0.25, 0.1);
+  add_box(w, 2.1, 2.6, -0.1, 0.5);  // its left part shows past the first's
+  const BypassPlan p = plan_from(w);
+  ASSERT_TRUE(p.ok);
+  // Its far side unseen, it is taken to be as deep as the part in view is wide (0.29 m).
+  EXPECT_GT(p.x_far, 2.3);
+  EXPECT_GE(p.y_max, 0.5 - 0.01);
+  const double past = p.x_far + cfg.clearance_m + fp.half_length_m;
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  EXPECT_NEAR(p.waypoints[1].x(), past, 1e-9);
+  // Hidden behind the first (not in the scan), the costmap's marks of the second do the same.
+  World first;
+  add_box(first, 1.0, 1.5, -0.25, 0.25);
+  const RollingGrid<std::uint8_t> g = costmap_with(
+      {Vec2(2.12, 0.02), Vec2(2.27, 0.02), Vec2(2.42, 0.02), Vec2(2.57, 0.02)});
+  const BypassPlan q = planner.plan(field_of(first, Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0, &g);
+  ASSERT_TRUE(q.ok);
+  EXPECT_GE(q.x_far, 2.55);
+  // Beyond rejoining reach (2 m on), the second is not this bypass's business.
+  World apart;
+  add_box(apart, 1.0, 1.5, -0.25, 0.25);
+  add_box(apart, 3.6, 4.1, -0.25, 0.25);
+  const BypassPlan r = plan_from(apart);
+  ASSERT_TRUE(r.ok);
+  EXPECT_LT(r.x_far, 2.1);
+}
+
 }  // namespace
 }  // namespace carril::fw

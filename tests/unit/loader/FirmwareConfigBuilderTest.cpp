@@ -50,6 +50,8 @@ fw::FirmwareConfig old_sim_mapping(const RobotSpec& r, const MissionSpec& m) {
   c.lidar.y_m = r.lidar.y_m;
   c.lidar.yaw_rad = r.lidar.yaw_deg * kDeg;
   c.lidar.rate_hz = r.lidar.rate_hz;
+  c.lidar.reliable_range_m = r.lidar.range_max_m;
+  c.runner.check.round_body = r.round_body;
   c.watch.imu_present = true;
   c.camera.detector.line = detector_threshold(m.line_color_name, m.line_color);
   c.camera.detector.end = detector_threshold(m.end_color_name, m.end_color);

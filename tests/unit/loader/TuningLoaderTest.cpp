@@ -46,13 +46,13 @@ TEST(TuningLoader, ShippedFileLoads) {
   const std::string path = source_path("config/tuning/default.yaml");
   ASSERT_TRUE(load_tuning(path, t, error)) << error;
   EXPECT_EQ(t.source_path, path);
-  EXPECT_EQ(t.settings.size(), 16U);
+  EXPECT_EQ(t.settings.size(), 31U);
 }
 
 TEST(TuningLoader, UnknownKeysListTheAllowedOnes) {
   const Loaded top = load("runer: {obstacle: {stop_m: 0.5}}\n");
   EXPECT_EQ(top.error, top.path +
-                           ":1: runer: unknown key (allowed: runner, detector, health, "
+                           ":1: runer: unknown key (allowed: runner, lidar, detector, health, "
                            "watch, limits)");
   const Loaded nested = load("detector:\n  decimate: 2\n");
   EXPECT_EQ(nested.error, nested.path +

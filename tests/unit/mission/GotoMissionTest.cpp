@@ -475,7 +475,7 @@ TEST(GotoMissionTest, TheLidarsMemoryOfItsBlindSectorHoldsATurnTheCostmapForgot)
     field.publish(0);
     EXPECT_TRUE(field.get().points().empty());
     EXPECT_GE(field.get().remembered().size(), 20U);
-    ObstacleGuard guard(ObstacleStopConfig{}, field, r.odom);
+    ObstacleGuard guard(ObstacleStopConfig{}, SafetyFieldsConfig{}, field, r.odom);
     if (memory) r.ctx.guard = &guard;
     r.start();
     const double clearance = run_keeping_clear_of(r, -1.5, -0.45, 2.5, -0.35);

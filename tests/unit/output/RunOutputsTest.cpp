@@ -120,6 +120,7 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "relocalised_after_kidnap_s",
                                              "relocalised_after_kidnaps_s",
                                              "localisation_counters",
+                                             "safety_counters",
                                              "tasks"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(json.front(), '{');
