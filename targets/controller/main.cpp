@@ -6,7 +6,8 @@
 // (also on SIGUSR1, while running).
 // Its configuration comes from the robot description, controller, mission and (optional) tuning
 // files given on the command line, through the same loader as the simulator's (loader/).
-// Exit status: 0 it ran the requested ticks (or until SIGINT/SIGTERM when no --ticks was given),
+// Exit status: 0 it ran the requested ticks (or until SIGINT, SIGTERM or SIGHUP when no --ticks was
+// given; SIGPIPE is ignored),
 // 1 a signal stopped it before the requested ticks, 2 bad usage or configuration (or a CAN
 // interface or sensor link that cannot be opened), 3 the drives did not come up.
 #include <pthread.h>
@@ -48,7 +49,13 @@ std::atomic<bool> g_stop{false};
 std::atomic<bool> g_report{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
-extern "C" void on_signal(int) {
+// The first stopping signal received (SIGINT, SIGTERM, SIGHUP), 0 for none: named in the report.
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free int");
+
+extern "C" void on_signal(int sig) {
+  int none = 0;
+  g_stop_signal.compare_exchange_strong(none, sig, std::memory_order_relaxed);
   g_stop.store(true, std::memory_order_relaxed);
 }
 extern "C" void on_report(int) {
@@ -59,8 +66,16 @@ void install_signal_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // A hang-up (the terminal or the ssh session that started it closed) stops the robot as a
+  // SIGTERM does: quick stop, NMT stop, the report; it must not kill the process with the
+  // wheels still commanded.
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+  // A closed stdout or stderr (a pipe whose reader went away) must never kill the controller:
+  // writes then fail with EPIPE, and the report's lines are lost, not the stop.
+  struct sigaction ign {};
+  ign.sa_handler = SIG_IGN;
+  sigemptyset(&ign.sa_mask);
+  sigaction(SIGPIPE, &ign, nullptr);
   struct sigaction sr {};
   sr.sa_handler = on_report;
   sigemptyset(&sr.sa_mask);
@@ -77,7 +92,7 @@ constexpr const char* kUsage =
     "  --controller FILE  CAN bus, drives, sensor sources, loop (config/controller/<name>.yaml)\n"
     "  --mission FILE     the mission (config/missions/<name>.yaml)\n"
     "  --tuning FILE      component tuning (config/tuning/<name>.yaml); default: none\n"
-    "  --ticks N          stop after N control ticks (N >= 1); default: until SIGINT or SIGTERM\n"
+    "  --ticks N          stop after N control ticks (N >= 1); default: until SIGINT, SIGTERM, SIGHUP\n"
     "  --can-log FILE     every CAN frame sent and received, in candump -l format\n"
     "  --help             print this and exit\n"
     "SIGUSR1 prints the loop's wake latency and compute figures; SIGINT or SIGTERM stop it\n"
@@ -431,7 +446,7 @@ int main(int argc, char** argv) {
     std::printf("carril_controller: running %llu ticks\n",
                 static_cast<unsigned long long>(opt.ticks));
   } else {
-    std::printf("carril_controller: running until SIGINT or SIGTERM\n");
+    std::printf("carril_controller: running until SIGINT, SIGTERM or SIGHUP\n");
   }
 
   // Memory locked (no page fault in the loop), then priorities: the control loop above the slow
@@ -518,15 +533,17 @@ int main(int argc, char** argv) {
   const FirmwareTelemetry& all = t.firmware.telemetry();
   const carril::fw::ControllerTelemetry& tel = all.controller;
   const bool interrupted = opt.ticks > 0 && tel.ticks < opt.ticks;
+  const int sig = g_stop_signal.load(std::memory_order_relaxed);
+  const char* sig_name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
   if (interrupted) {
-    std::printf("carril_controller: stopped by a signal after %llu of %llu ticks\n",
-                static_cast<unsigned long long>(tel.ticks),
+    std::printf("carril_controller: stopped by a signal (%s) after %llu of %llu ticks\n",
+                sig_name, static_cast<unsigned long long>(tel.ticks),
                 static_cast<unsigned long long>(opt.ticks));
   } else if (opt.ticks > 0) {
     std::printf("carril_controller: ran the requested %llu ticks\n",
                 static_cast<unsigned long long>(opt.ticks));
   } else {
-    std::printf("carril_controller: stopped by a signal after %llu ticks\n",
+    std::printf("carril_controller: stopped by a signal (%s) after %llu ticks\n", sig_name,
                 static_cast<unsigned long long>(tel.ticks));
   }
   print_telemetry(all, loop);
