@@ -92,7 +92,7 @@ constexpr const char* kUsage =
     "  --controller FILE  CAN bus, drives, sensor sources, loop (config/controller/<name>.yaml)\n"
     "  --mission FILE     the mission (config/missions/<name>.yaml)\n"
     "  --tuning FILE      component tuning (config/tuning/<name>.yaml); default: none\n"
-    "  --ticks N          stop after N control ticks (N >= 1); default: until SIGINT, SIGTERM, SIGHUP\n"
+    "  --ticks N          stop after N control ticks (N >= 1); default: until a stopping signal\n"
     "  --can-log FILE     every CAN frame sent and received, in candump -l format\n"
     "  --help             print this and exit\n"
     "SIGUSR1 prints the loop's wake latency and compute figures; SIGINT or SIGTERM stop it\n"
@@ -536,8 +536,8 @@ int main(int argc, char** argv) {
   const int sig = g_stop_signal.load(std::memory_order_relaxed);
   const char* sig_name = sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP";
   if (interrupted) {
-    std::printf("carril_controller: stopped by a signal (%s) after %llu of %llu ticks\n",
-                sig_name, static_cast<unsigned long long>(tel.ticks),
+    std::printf("carril_controller: stopped by a signal (%s) after %llu of %llu ticks\n", sig_name,
+                static_cast<unsigned long long>(tel.ticks),
                 static_cast<unsigned long long>(opt.ticks));
   } else if (opt.ticks > 0) {
     std::printf("carril_controller: ran the requested %llu ticks\n",
