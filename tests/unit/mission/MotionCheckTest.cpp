@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "firmware/mission/MotionCheck.hpp"
-#include "tests/unit/perception/ScanScene.hpp"
+#include "tests/unit/mission/SafetyRig.hpp"
 
 namespace carril::fw {
 namespace {
@@ -17,20 +17,7 @@ const Footprint kDisc{0.171, 0.171};  // a cleaner: round_body
 const Footprint kBox{0.3, 0.2};
 
 SafetyFieldsConfig fields() {
-  SafetyFieldsConfig c;
-  c.scan_period_s = 0.05;
-  c.tick_s = 0.01;
-  c.drive_latency_s = 0.02;  // reaction 0.08 s
-  c.decel_mps2 = 1.0;
-  return c;
-}
-
-// One 360 deg scan of `scene` by a lidar at the centre of a robot at the origin.
-ObstacleField field_of(const Footprint& fp, const test::ScanScene& scene) {
-  ObstacleField f(fp, 0.0, 0.0, 0.0);
-  auto s = scene.scan(Pose2{}, Pose2{}, 1441, 2.0 * kPi);
-  f.update(*s, Pose2{});
-  return f;
+  return test::safety_fields_config();
 }
 
 // A wall along x at y = -(half width + gap): the robot runs along it on its right.
@@ -55,7 +42,7 @@ MotionVerdict judge(const Footprint& fp, bool round, const test::ScanScene& scen
   c.round_body = round;
   c.alternatives = alternatives;
   MotionCheck check(c, fields(), fp);
-  const ObstacleField f = field_of(fp, scene);
+  const ObstacleField f = test::field_of(fp, scene);
   return check.check(want, Pose2{}, f, Pose2{}, std::hypot(want.vx, want.vy), want.wz);
 }
 

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "tests/unit/perception/ScanScene.hpp"
+#include "tests/unit/mission/SafetyRig.hpp"
 
 namespace carril::fw {
 namespace {
@@ -15,20 +15,11 @@ namespace {
 const Footprint kBody{0.25, 0.2};
 
 SafetyFieldsConfig config() {
-  SafetyFieldsConfig c;
-  c.scan_period_s = 0.05;
-  c.tick_s = 0.01;
-  c.drive_latency_s = 0.02;  // reaction 0.08 s
-  c.decel_mps2 = 1.0;
-  return c;
+  return test::safety_fields_config();
 }
 
-// A field from one 360 deg scan of `scene` by a lidar at the robot's centre, robot at the origin.
 ObstacleField field_of(const test::ScanScene& scene, double fov_deg = 360.0) {
-  ObstacleField f(kBody, 0.0, 0.0, 0.0);
-  auto s = scene.scan(Pose2{}, Pose2{}, 1441, fov_deg * kPi / 180.0);
-  f.update(*s, Pose2{});
-  return f;
+  return test::field_of(kBody, scene, fov_deg);
 }
 
 test::ScanScene box_ahead(double gap_m, double y = 0.0) {
