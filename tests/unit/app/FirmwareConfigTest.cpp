@@ -76,6 +76,35 @@ TEST(FirmwareConfigTest, AnAbsentLidarIsNotChecked) {
   EXPECT_FALSE(c.validate().is_ok());
 }
 
+// Issue 46 item 1: a top speed whose stop does not fit what the lidar sees reliably, or a
+// configured protective field, is refused with both distances; within them it is accepted.
+TEST(FirmwareConfigTest, ATopSpeedWhoseFieldsTheLidarCannotCoverIsRefused) {
+  FirmwareConfig c;
+  c.limits.max_speed_mps = 1.5;
+  c.lidar.reliable_range_m = 20.0;
+  apply_sensor_rates(c);
+  ASSERT_TRUE(c.validate().is_ok()) << c.validate().message();
+  c.lidar.reliable_range_m = 3.0;
+  Status s = c.validate();
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(std::string(s.message())
+                .find("robot.limits.max_speed_mps: 1.5 m/s needs its warning "
+                      "field to reach"),
+            std::string::npos)
+      << s.message();
+  EXPECT_NE(std::string(s.message()).find("beyond lidar.reliable_range_m 3 m"), std::string::npos)
+      << s.message();
+  c.lidar.reliable_range_m = 20.0;
+  c.runner.fields.max_field_m = 0.5;  // a scanner whose largest field is 0.5 m
+  s = c.validate();
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(std::string(s.message()).find("longer than runner.fields.max_field_m 0.5 m"),
+            std::string::npos)
+      << s.message();
+  c.limits.max_speed_mps = 0.3;  // its stop fits 0.5 m
+  EXPECT_TRUE(c.validate().is_ok()) << c.validate().message();
+}
+
 TEST(FirmwareConfigTest, SensorRatesSetTimeoutsAndHealthWindows) {
   FirmwareConfig c;
   c.camera.rate_hz = 30.0;
