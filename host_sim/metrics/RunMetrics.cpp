@@ -7,8 +7,8 @@ namespace carril::sim {
 namespace {
 
 // Progress tracking (see add()).
-constexpr double kWindowM = 3.0;  // how far ahead a rejoin may be credited, plus the detour [m]
-constexpr double kOnPathM = 0.35;         // robot centre this close to the tape counts as on it [m]
+constexpr double kWindowM = 3.0;   // how far ahead a rejoin may be credited, plus the detour [m]
+constexpr double kOnPathM = 0.35;  // robot centre this close to the tape counts as on it [m]
 constexpr double kDoneRemainingM = 0.05;  // this little left of the path counts as all of it [m]
 // End mark stop.
 constexpr double kEndRadiusM = 0.25;  // centre within this of an end mark's centre [m]
@@ -112,14 +112,16 @@ double RunMetrics::remaining_m() const {
 // robot first projected onto it. Counts as complete when less than 5 cm is left in order, or
 // when the robot has stopped on the end mark (end_reached) with less than the end-mark radius
 // (0.25 m) + 5 cm left: the mark may sit a little short of the tape's end.
+// Nothing driven along the route is no progress, wherever the robot stands (at the open path's
+// end, a few centimetres short of it): a robot that never leaves START scores 0.
 double RunMetrics::progress() const {
-  if (path_.empty() || !started_) return 0.0;
+  if (path_.empty() || !started_ || !(advanced_m_ > 0.0)) return 0.0;
   const double remaining = remaining_m();
   if (remaining < kDoneRemainingM) return 1.0;
   if (end_reached() && remaining < kEndRadiusM + kDoneRemainingM) return 1.0;
   const double len = path_.length_m();
   const double denom = path_.closed() ? len : len - s0_m_;
-  if (!(denom > 0.0)) return 1.0;  // started at the open path's end: nothing left to do
+  if (!(denom > 0.0)) return 1.0;  // drove onto the open path at its very end
   return std::clamp(advanced_m_ / denom, 0.0, 1.0);
 }
 

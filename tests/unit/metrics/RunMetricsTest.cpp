@@ -53,6 +53,22 @@ TEST(RunMetricsTest, StraightOpenTapeFullProgressNoCrossTrack) {
   EXPECT_NEAR(m.cross_track_max_m(), 0.0, 1e-12);
 }
 
+// Issue 46 item 8: progress is distance driven along the route. A robot that never moves (at
+// the open tape's end, 3 cm short of it, or on a loop) scores 0, not a finished run.
+TEST(RunMetricsTest, ARobotThatNeverMovesScoresNoProgress) {
+  const Scenario sc = with_path({{0, 0}, {10, 0}});
+  for (const double x : {10.0, 9.97, 5.0}) {
+    RunMetrics m(sc);
+    for (int i = 0; i < 500; ++i) m.add(at(0.02 * i, x, 0.0));
+    EXPECT_DOUBLE_EQ(m.progress(), 0.0) << "standing at x = " << x;
+  }
+  const Scenario loop = with_path({{0, 0}, {4, 0}, {4, 4}, {0, 4}, {0, 0}});
+  RunMetrics m(loop);
+  for (int i = 0; i < 500; ++i) m.add(at(0.02 * i, 2.0, 0.0));
+  EXPECT_DOUBLE_EQ(m.progress(), 0.0);
+  EXPECT_EQ(m.laps(), 0);
+}
+
 TEST(RunMetricsTest, HalfWayIsHalfProgress) {
   const Scenario sc = with_path({{0, 0}, {10, 0}});
   RunMetrics m(sc);
