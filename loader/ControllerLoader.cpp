@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <numbers>
 
 #include "loader/StrictYaml.hpp"
 
@@ -56,9 +58,15 @@ std::string parse_ipv4(const Node& n) {
 // A POSIX shared memory object name: "/" then 1 to 63 characters, no other '/'.
 std::string parse_shm_name(const Node& n) {
   const std::string s = n.string();
-  if (s.size() < 2 || s.size() > 64 || s[0] != '/' || s.find('/', 1) != std::string::npos) {
-    n.expected("a shared memory name: '/' and 1 to 63 characters without '/' (/carril_camera)",
-               "\"" + s + "\"");
+  const bool chars = std::all_of(s.begin() + (s.empty() ? 0 : 1), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
+  });
+  if (s.size() < 2 || s.size() > 63 || s[0] != '/' || !chars || s == "/." || s == "/..") {
+    n.expected(
+        "a shared memory name: '/' and 1 to 62 letters, digits, '_', '-' or '.', not /. or /.. "
+        "(/carril_camera)",
+        "\"" + s + "\"");
   }
   return s;
 }
@@ -74,10 +82,35 @@ ControllerDriveSpec parse_drive(const Node& m) {
   return d;
 }
 
+// Velocity actual and target velocity are 32-bit counts/s on the bus: the robot's fastest wheel
+// (with the 1.5x the feedback watchdog allows) must fit, and one count/s must be a small step of
+// it (at most 1 %), or the drive cannot carry the speed range.
+void check_pdo_scale(const Node& item, const ControllerDriveSpec& d, const RobotSpec& robot) {
+  const double counts_per_rad = d.counts_per_rev * d.gear_ratio / (2.0 * std::numbers::pi);
+  const double fastest = robot.limits.max_wheel_speed_radps * 1.5 * counts_per_rad;
+  char text[240];
+  if (fastest > 2147483647.0) {
+    std::snprintf(text, sizeof text,
+                  "counts_per_rev x gear_ratio that keep 1.5 x limits.max_wheel_speed_radps "
+                  "(%g rad/s) within a 32-bit PDO (%.4g counts/s > 2147483647)",
+                  robot.limits.max_wheel_speed_radps * 1.5, fastest);
+    item.at("counts_per_rev").expected(text, item.at("counts_per_rev").raw());
+  }
+  if (robot.limits.max_wheel_speed_radps * counts_per_rad < 100.0) {
+    std::snprintf(text, sizeof text,
+                  "counts_per_rev x gear_ratio that resolve limits.max_wheel_speed_radps "
+                  "(%g rad/s) in at least 100 counts/s (%.3g)",
+                  robot.limits.max_wheel_speed_radps,
+                  robot.limits.max_wheel_speed_radps * counts_per_rad);
+    item.at("counts_per_rev").expected(text, item.at("counts_per_rev").raw());
+  }
+}
+
 void parse_can(const Node& m, const RobotSpec& robot, CanSpec& c) {
   m.expect_map({"interface", "master_node", "master_heartbeat_ms", "drive_heartbeat_ms",
                 "drive_timeout_ms", "master_timeout_ms", "sdo_timeout_s", "boot_timeout_s",
-                "enable_timeout_s", "max_reads_per_tick", "ramps", "drives"});
+                "enable_timeout_s", "max_reads_per_tick", "feedback_missed_syncs", "ramps",
+                "drives"});
   c.interface = parse_interface(m.at("interface"));
   c.master_node = static_cast<int>(m.at("master_node").integer(1, 127));
   c.master_heartbeat_ms = static_cast<int>(m.at("master_heartbeat_ms").integer(10, 10000));
@@ -128,6 +161,7 @@ void parse_can(const Node& m, const RobotSpec& robot, CanSpec& c) {
   c.drives.clear();
   for (const Node& item : items) {
     ControllerDriveSpec d = parse_drive(item);
+    check_pdo_scale(item, d, robot);
     const Node node = item.at("node");
     if (d.node == c.master_node) {
       node.expected("a node id other than can.master_node (" + std::to_string(c.master_node) + ")",
@@ -147,6 +181,14 @@ void parse_can(const Node& m, const RobotSpec& robot, CanSpec& c) {
   // receive queue grow without bound.
   const int min_reads = 4 * wheels;
   c.max_reads_per_tick = static_cast<int>(m.at("max_reads_per_tick").integer(min_reads, 1024));
+  // Optional: one late frame must not stop the robot, and a drive must not run on stale
+  // feedback longer than a lost heartbeat would let it. Default and bound: drive_timeout_ms in
+  // control periods (a silent drive faults on both at about the same time).
+  const int most = std::max(2, int(c.drive_timeout_ms / (1000.0 / robot.control_rate_hz)));
+  c.feedback_missed_syncs = most;
+  if (auto n = m.get("feedback_missed_syncs")) {
+    c.feedback_missed_syncs = static_cast<int>(n->integer(2, most));
+  }
 }
 
 void parse_sensors(const Node& m, ControllerSpec& c) {

@@ -28,6 +28,8 @@ struct CanSpec {
   double boot_timeout_s = 2.0;     // a drive's boot-up message after reset communication [s]
   double enable_timeout_s = 1.0;   // the CiA 402 enable sequence [s]
   int max_reads_per_tick = 32;     // frames read per control period at most
+  int feedback_missed_syncs = 12;  // SYNC periods of missing or bad TPDOs that fault a drive;
+                                   // default drive_timeout_ms in control periods
   double accel_radps2 = 25.0;      // profile acceleration 0x6083 [wheel rad/s^2]
   double decel_radps2 = 25.0;      // profile deceleration 0x6084 [wheel rad/s^2]
   double quick_stop_decel_radps2 = 50.0;  // quick stop deceleration 0x6085 [wheel rad/s^2]

@@ -18,10 +18,11 @@ Controller::Controller(const hal::Clock& clock, double tick_rate_hz, Topic<Senso
       frame_(frame),
       command_(command),
       runner_(runner),
+      throttle_(events_, kEventsPerSecond, 1'000'000'000),
       tasks_("controller tasks"),
       tick_budget_ns_(usable_rate(tick_rate_hz) ? static_cast<std::int64_t>(0.5e9 / tick_rate_hz)
                                                 : 0) {
-  init_ = tasks_.init(tick_rate_hz, &events_);
+  init_ = tasks_.init(tick_rate_hz, &throttle_);
 }
 
 Status Controller::add_task(const TaskSpec& spec) {
@@ -60,7 +61,7 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
     e.kind = EventKind::StateChange;
     e.from = faulted_before ? "FAULT" : before.name;
     e.to = latched() ? "FAULT" : after.name;
-    events_.push(e);
+    throttle_.push(e);
   }
   ++tick_;
   const hal::TimeNs dt = clock_.cpu_now_ns() - t0;
@@ -89,7 +90,7 @@ void Controller::log_phase_change(hal::TimeNs t_ns, const MissionState& now) {
     e.kind = EventKind::Phase;
     e.from = e.to = now.name;
     e.phase = phase;
-    events_.push(e);
+    throttle_.push(e);
   }
 }
 
@@ -106,7 +107,8 @@ void Controller::raise(Fault f, std::uint16_t code, const char* in_state) {
   e.to = "FAULT";
   e.fault = f;
   e.code = code;
-  events_.push(e);
+  first_fault_ = e;
+  throttle_.push(e);
 }
 
 void Controller::fill_telemetry(ControllerTelemetry& t) const {
@@ -125,6 +127,9 @@ void Controller::fill_telemetry(ControllerTelemetry& t) const {
   t.fault = fault_;
   t.fault_counts = fault_counts_;
   t.events_dropped = events_.dropped();
+  t.events_throttled = throttle_.throttled();
+  t.has_first_fault = fault_ != Fault::None;
+  t.first_fault = first_fault_;
 }
 
 }  // namespace carril::fw

@@ -11,6 +11,7 @@
 
 #include "firmware/core/Event.hpp"
 #include "firmware/core/EventLog.hpp"
+#include "firmware/core/EventThrottle.hpp"
 #include "firmware/core/FaultSink.hpp"
 #include "firmware/core/Frames.hpp"
 #include "firmware/core/LatencyStats.hpp"
@@ -34,12 +35,17 @@ struct ControllerTelemetry {
   MissionStatus status = MissionStatus::Starting;
   Fault fault = Fault::None;  // latched fault, if any
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts{};
-  std::uint64_t events_dropped = 0;  // events overwritten before anyone read them
+  std::uint64_t events_dropped = 0;    // events overwritten before anyone read them
+  std::uint64_t events_throttled = 0;  // non-fault events over kEventsPerSecond, only counted
+  bool has_first_fault = false;        // first_fault holds the fault that latched
+  Event first_fault;                   // kept apart from the event log: no flood removes it
 };
 
 class Controller final : public FaultSink {
  public:
   static constexpr std::size_t kEventLog = 64;
+  // Non-fault events logged per second at most: a flood leaves the log room for faults.
+  static constexpr std::uint32_t kEventsPerSecond = 16;
   using Events = EventLog<kEventLog>;
 
   // frame: published by tick() for the tasks; command: what the tasks leave for the drives.
@@ -73,6 +79,8 @@ class Controller final : public FaultSink {
   // The mission's state name, or FAULT once a fault latched.
   const char* state_name() const;
   Fault fault() const { return fault_; }
+  // The event of the fault that latched, kept apart from the log; null before any fault.
+  const Event* first_fault() const { return fault_ != Fault::None ? &first_fault_ : nullptr; }
   // Fills the schedule's counters (computes percentiles: call it outside the tick or at a low
   // rate).
   void fill_telemetry(ControllerTelemetry& t) const;
@@ -91,6 +99,8 @@ class Controller final : public FaultSink {
   const Topic<ActuatorCommand>& command_;
   MissionRunner& runner_;
   Events events_;
+  EventThrottle throttle_;  // every event goes through it into events_
+  Event first_fault_;
   TaskTable tasks_;
   LatencyStats tick_stats_;
   std::int64_t tick_budget_ns_;

@@ -89,8 +89,20 @@ const char* CanopenWheelDrives::validate() {
     std::snprintf(e, n, "max_reads = %d: expected 1 to 4096 frames per sync", c.max_reads);
     return e;
   }
+  if (c.feedback_missed_syncs < 2 || c.feedback_missed_syncs > 1000) {
+    std::snprintf(e, n,
+                  "feedback_missed_syncs = %d: expected 2 to 1000 SYNC periods (one late frame "
+                  "must not stop the robot)",
+                  c.feedback_missed_syncs);
+    return e;
+  }
   for (int i = 0; i < c.wheels; ++i) {
     const DriveSetup& d = c.drive[i];
+    if (!positive(d.max_wheel_radps)) {
+      std::snprintf(e, n, "drive[%d].max_wheel_radps = %g: expected a positive speed [rad/s]", i,
+                    d.max_wheel_radps);
+      return e;
+    }
     if (d.node < 1 || d.node > kMaxNodeId) {
       std::snprintf(e, n, "drive[%d].node = %u: expected 1 to 127", i, unsigned(d.node));
       return e;

@@ -3,8 +3,11 @@
 #include "hal/canopen/CanopenWheelDrives.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
+#include <numbers>
 
 #include "hal/canopen/Frames.hpp"
 
@@ -58,6 +61,8 @@ void CanopenWheelDrives::reset_faults() {
       const bool heard_since = alive && hb->last_ns > d.latch_ns;
       const bool communication = d.latch == kFaultHeartbeatLost || d.latch == kFaultBusDown;
       if (d.latch == kFaultRebooted || !alive || (communication && !heard_since)) continue;
+      // Feedback clears once a whole SYNC period brought good feedback again.
+      if (d.latch == kFaultFeedback && d.bad_periods != 0) continue;
       if (d.latch == kFaultNotOperational &&
           hb->state != static_cast<std::uint8_t>(NmtState::Operational)) {
         // Ask it back; the latch clears at a later reset_faults() once its heartbeat agrees.
@@ -197,12 +202,26 @@ void CanopenWheelDrives::dispatch(const CanFrame& f, TimeNs now) {
       return;
     }
     case kTpdo1Base: {
-      if (!decode_tpdo1(f, node, d.statusword, d.velocity_counts)) {
+      std::uint16_t statusword = 0;
+      std::int32_t velocity = 0;
+      if (!decode_tpdo1(f, node, statusword, velocity)) {
         ++counters_.malformed;
+        d.bad_why = "TPDO1 malformed";
         return;
       }
       ++counters_.tpdo1;
+      // A speed no wheel of this robot can reach is a corrupt frame: its statusword is not
+      // trusted either, and the period counts as bad.
+      const double limit = cfg_.drive[i].max_wheel_radps * 1.5;
+      if (std::abs(cia402::to_wheel_radps(velocity, cfg_.drive[i].units)) > limit) {
+        ++counters_.implausible;
+        d.bad_why = "velocity actual beyond 1.5 times max_wheel_radps";
+        return;
+      }
+      d.statusword = statusword;
+      d.velocity_counts = velocity;
       d.sw_heard = true;
+      d.tpdo1_fresh = true;
       d.stamp_ns = last_sync_ns_;  // sampled at the SYNC it answers
       return;
     }
@@ -210,10 +229,22 @@ void CanopenWheelDrives::dispatch(const CanFrame& f, TimeNs now) {
       std::int32_t position = 0;
       if (!decode_tpdo2(f, node, position)) {
         ++counters_.malformed;
+        d.bad_why = "TPDO2 malformed";
         return;
       }
       ++counters_.tpdo2;
-      d.position.add(position);
+      if (!plausible_position(d, i, position)) {
+        // The odometry does not take the jump: it resumes from the new reading.
+        ++counters_.implausible;
+        d.bad_why = "position actual jumped further than max_wheel_radps allows";
+        d.position.rebase(position);
+      } else {
+        d.position.add(position);
+        d.tpdo2_fresh = true;
+      }
+      d.position_heard = true;
+      d.raw_position = position;
+      d.raw_position_sync_ns = last_sync_ns_;
       return;
     }
     default: {  // kSdoResponseBase
@@ -286,7 +317,48 @@ void CanopenWheelDrives::check_faults(TimeNs now) {
   }
 }
 
+bool CanopenWheelDrives::plausible_position(Drive& d, int i, std::int32_t counts) const {
+  if (!d.position_heard) return true;
+  const auto step = static_cast<std::int32_t>(static_cast<std::uint32_t>(counts) -
+                                              static_cast<std::uint32_t>(d.raw_position));
+  // Since the SYNC of the last reading, plus one period of jitter in when a SYNC goes out.
+  const TimeNs dt =
+      std::max<TimeNs>(last_sync_ns_ - d.raw_position_sync_ns, 0) + cfg_.control_period_ns;
+  const double limit_counts = cfg_.drive[i].max_wheel_radps * 1.5 * cfg_.drive[i].units.gear_ratio *
+                                  cfg_.drive[i].units.counts_per_rev / (2.0 * std::numbers::pi) *
+                                  double(dt) * 1e-9 +
+                              2.0;
+  return std::abs(double(step)) <= limit_counts;
+}
+
+void CanopenWheelDrives::supervise_feedback(TimeNs now) {
+  for (int i = 0; i < cfg_.wheels; ++i) {
+    Drive& d = drive_[i];
+    const bool bad = d.bad_why != nullptr || !d.tpdo1_fresh || !d.tpdo2_fresh;
+    if (!bad) {
+      d.bad_periods = 0;
+    } else {
+      ++counters_.feedback_bad;
+      ++d.bad_periods;
+      d.last_bad = d.bad_why != nullptr               ? d.bad_why
+                   : !d.tpdo1_fresh && !d.tpdo2_fresh ? "no TPDO1 nor TPDO2"
+                   : !d.tpdo1_fresh                   ? "no TPDO1 (statusword, velocity)"
+                                                      : "no TPDO2 (position)";
+      if (d.bad_periods >= cfg_.feedback_missed_syncs) {
+        latch(i, kFaultFeedback, now, "feedback bad for %d SYNC periods in a row (last: %s)",
+              d.bad_periods, d.last_bad);
+      }
+    }
+  }
+}
+
 bool CanopenWheelDrives::exchange_pdos(TimeNs now) {
+  // The feedback due since the last SYNC: judged only once a SYNC went out while running.
+  if (sync_outstanding_) supervise_feedback(now);
+  for (int i = 0; i < cfg_.wheels; ++i) {
+    drive_[i].tpdo1_fresh = drive_[i].tpdo2_fresh = false;
+    drive_[i].bad_why = nullptr;
+  }
   // Faults first, so a fault found on any drive stops every drive in this same period.
   check_faults(now);
   for (int i = 0; i < cfg_.wheels; ++i) {
@@ -312,6 +384,7 @@ bool CanopenWheelDrives::exchange_pdos(TimeNs now) {
   if (!send(sync_frame(), now)) return false;
   ++counters_.syncs;
   last_sync_ns_ = now;
+  sync_outstanding_ = phase_ == Phase::Ready;
   return true;
 }
 
@@ -331,6 +404,7 @@ bool CanopenWheelDrives::send(const CanFrame& f, TimeNs now) {
 void CanopenWheelDrives::bus_down(TimeNs now, const char* why) {
   if (bus_down_) return;
   bus_down_ = true;
+  sync_outstanding_ = false;  // no SYNC reaches the drives: nothing is due
   ++counters_.bus_offs;
   ++counters_.faults;
   backoff_ns_ = cfg_.backoff_min_ns;
@@ -347,6 +421,11 @@ void CanopenWheelDrives::bus_down(TimeNs now, const char* why) {
   std::snprintf(last_fault_, kMaxText,
                 "CAN %s: every drive taken as faulted, probing every %lld ms", why,
                 ms(backoff_ns_));
+  keep_first_fault();
+}
+
+void CanopenWheelDrives::keep_first_fault() {
+  if (first_fault_[0] == '\0') std::memcpy(first_fault_, last_fault_, sizeof first_fault_);
 }
 
 void CanopenWheelDrives::probe(TimeNs now) {
@@ -380,6 +459,7 @@ void CanopenWheelDrives::latch(int i, std::uint16_t code, TimeNs now, const char
   va_start(args, fmt);
   std::vsnprintf(last_fault_ + k, std::size_t(kMaxText - k), fmt, args);
   va_end(args);
+  keep_first_fault();
 }
 
 }  // namespace carril::hal::canopen

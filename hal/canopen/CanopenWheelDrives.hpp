@@ -45,6 +45,7 @@ constexpr std::uint16_t kFaultEnableTimeout = 0xFF01;   // did not reach Operati
 constexpr std::uint16_t kFaultGeneric = 0x1000;         // Fault statusword without an EMCY
 constexpr std::uint16_t kFaultRebooted = 0x6000;        // boot-up after bring-up: setup lost
 constexpr std::uint16_t kFaultNotOperational = 0x8200;  // heartbeat: left Operational unasked
+constexpr std::uint16_t kFaultFeedback = 0xFF02;        // TPDOs missing, malformed or implausible
 
 struct CanopenConfig {
   static constexpr TimeNs kMs = 1'000'000;
@@ -62,6 +63,8 @@ struct CanopenConfig {
   TimeNs enable_timeout_ns = 1000 * kMs;     // reaching Operation enabled (init and enable()) [ns]
   TimeNs bring_up_poll_ns = 10 * kMs;        // init()'s step: SDO polls, SYNCs while enabling [ns]
   int max_reads = 32;                        // frames read per sync() at most
+  int feedback_missed_syncs = 10;            // consecutive SYNC periods with feedback missing,
+                                             // malformed or implausible that latch a fault
   TimeNs backoff_min_ns = 100 * kMs;         // first bus probe after bus-off [ns], then doubling
   TimeNs backoff_max_ns = 2000 * kMs;        // ... up to this [ns]
 };
@@ -79,6 +82,9 @@ struct CanopenCounters {
   std::uint64_t unknown_cob = 0;       // COB-IDs the master does not consume (or extended ids)
   std::uint64_t malformed = 0;         // our drives' frames with a wrong length, remote frames
   std::uint64_t heartbeat_losses = 0;  // drives found silent for the consumer time
+  std::uint64_t feedback_bad = 0;      // SYNC periods a drive's feedback was missing, malformed
+                                       // or implausible (each drive counted apart)
+  std::uint64_t implausible = 0;       // TPDOs refused: speed beyond the limit, position jump
   std::uint64_t bus_offs = 0;          // bus-off or interface down events
   std::uint64_t probes = 0;            // bus probes after bus-off
   std::uint64_t send_refused = 0;      // send() returned false
@@ -128,6 +134,8 @@ class CanopenWheelDrives final : public WheelDrives {
   const CanopenCounters& counters() const { return counters_; }
   // The last fault, "drive 1 (node 3): EMCY 0x2310 continuous over-current"; "" before any.
   const char* last_fault() const { return last_fault_; }
+  // The first fault since construction, kept whatever follows it; "" before any.
+  const char* first_fault() const { return first_fault_; }
   // Increments with every fault latched, so a logger sees each new last_fault() once.
   std::uint64_t fault_seq() const { return counters_.faults; }
   // Whether the bus is considered down (bus-off, send refused) and being probed.
@@ -165,6 +173,15 @@ class CanopenWheelDrives final : public WheelDrives {
                                     // the drive had enable_timeout_ns to leave it; -1 none
     std::uint32_t losses_seen = 0;  // heartbeat losses already latched
     TimeNs enable_since_ns = -1;    // when the current enable began [ns]; -1 not enabling
+    // Feedback supervision, per SYNC period (see supervise_feedback()).
+    bool tpdo1_fresh = false;         // a valid TPDO1 answered the last SYNC
+    bool tpdo2_fresh = false;         // a valid TPDO2 answered the last SYNC
+    const char* bad_why = nullptr;    // this period's malformed or implausible frame; null none
+    int bad_periods = 0;              // consecutive bad periods
+    const char* last_bad = "";        // what the last bad period lacked, for the fault message
+    bool position_heard = false;      // raw_position holds a reading
+    std::int32_t raw_position = 0;    // the last position actual [counts], for the jump check
+    TimeNs raw_position_sync_ns = 0;  // the SYNC it answered [ns]
   };
 
   const char* validate();
@@ -186,11 +203,18 @@ class CanopenWheelDrives final : public WheelDrives {
   // Latches fault `code` on drive i and stops every wheel; `text` completes last_fault().
   void latch(int i, std::uint16_t code, TimeNs now, const char* fmt, ...)
       __attribute__((format(printf, 5, 6)));
+  // last_fault_ was just written: the first one is kept in first_fault_.
+  void keep_first_fault();
   cia402::Goal goal_of(int i) const;
 
   BringUp poll_configure(TimeNs now);
   BringUp poll_power(TimeNs now);
   void check_faults(TimeNs now);
+  // One SYNC period's verdict on each drive's feedback: bad_periods grows while it is
+  // missing, malformed or implausible, and at feedback_missed_syncs the drive faults.
+  void supervise_feedback(TimeNs now);
+  // A position actual of drive i: false when it jumped further than the speed limit allows.
+  bool plausible_position(Drive& d, int i, std::int32_t counts) const;
   bool any_latch() const;
 
   CanBus& bus_;
@@ -202,6 +226,7 @@ class CanopenWheelDrives final : public WheelDrives {
   HeartbeatMonitor heartbeats_;
   CanopenCounters counters_;
   char last_fault_[kMaxText] = {};
+  char first_fault_[kMaxText] = {};
 
   Phase phase_ = Phase::Idle;
   TimeNs phase_since_ns_ = 0;
@@ -209,6 +234,7 @@ class CanopenWheelDrives final : public WheelDrives {
   cia402::Goal goal_ = cia402::Goal::Disabled;
   TimeNs next_master_hb_ns_ = 0;
   TimeNs last_sync_ns_ = 0;
+  bool sync_outstanding_ = false;  // a SYNC went out in Ready and its TPDOs are due
   bool bus_down_ = false;
   TimeNs backoff_ns_ = 0;
   TimeNs next_probe_ns_ = 0;

@@ -95,6 +95,12 @@ class PositionUnwrapper {
  public:
   // Feeds one reading; the first only latches it.
   void add(std::int32_t position_counts);
+  // Takes the next readings from `position_counts` without counting the step to it (a reading
+  // that jumped further than the wheel can turn).
+  void rebase(std::int32_t position_counts) {
+    primed_ = true;
+    last_ = position_counts;
+  }
   // Counts since the first reading, across wraps.
   std::int64_t counts() const { return total_; }
   // Wheel angle since the first reading [rad].

@@ -19,6 +19,7 @@ struct DriveSetup {
   std::uint16_t heartbeat_ms = 50;        // the drive's heartbeat period 0x1017 [ms]
   std::uint8_t master_node = 127;         // the master's node id, whose heartbeat the drive watches
   std::uint16_t master_timeout_ms = 150;  // consumer time 0x1016 for it [ms]
+  double max_wheel_radps = 30.0;          // feedback faster than this is implausible [wheel rad/s]
   bool inverted = false;  // mounted mirrored: the master negates speeds and positions both ways
 };
 

@@ -73,7 +73,8 @@ fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& repor
   return slow.add_all(table);
 }
 
-hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, double rate_hz) {
+hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, double rate_hz,
+                                           double max_wheel_radps) {
   const loader::CanSpec& can = spec.can;
   hal::canopen::CanopenConfig c;
   c.wheels = static_cast<int>(can.drives.size());
@@ -84,6 +85,7 @@ hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, d
     s.units.counts_per_rev = d.counts_per_rev;
     s.units.gear_ratio = d.gear_ratio;
     s.inverted = d.inverted;
+    s.max_wheel_radps = max_wheel_radps;
     s.accel_radps2 = can.accel_radps2;
     s.decel_radps2 = can.decel_radps2;
     s.quick_stop_decel_radps2 = can.quick_stop_decel_radps2;
@@ -101,6 +103,7 @@ hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, d
   c.enable_timeout_ns = static_cast<hal::TimeNs>(std::llround(can.enable_timeout_s * 1e9));
   c.bring_up_poll_ns = period_ns(rate_hz);
   c.max_reads = can.max_reads_per_tick;
+  c.feedback_missed_syncs = can.feedback_missed_syncs;
   return c;
 }
 
@@ -138,7 +141,7 @@ bool Hardware::open(const loader::ControllerSpec& spec, const fw::FirmwareConfig
     }
     waiter = std::make_unique<hal::canopen::ClockSleepWaiter>(clock);
     can_drives = std::make_unique<hal::canopen::CanopenWheelDrives>(
-        *bus, clock, *waiter, canopen_config(spec, fw.rate_hz));
+        *bus, clock, *waiter, canopen_config(spec, fw.rate_hz, fw.limits.max_wheel_speed_radps));
     if (*can_drives->config_error() != '\0') {
       error = spec.source_path + ": can: " + can_drives->config_error();
       return false;

@@ -44,7 +44,9 @@ fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& repor
 
 // The CANopen master's configuration from the controller file, for a control loop at
 // `rate_hz` [Hz].
-hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, double rate_hz);
+// max_wheel_radps: the robot's wheel speed limit; feedback beyond 1.5 times it is implausible.
+hal::canopen::CanopenConfig canopen_config(const loader::ControllerSpec& spec, double rate_hz,
+                                           double max_wheel_radps);
 
 // The hardware side, opened before the firmware exists: the CAN bus and its drives, the sensor
 // links. Members are null where the controller file says "none".

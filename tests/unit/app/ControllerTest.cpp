@@ -187,12 +187,46 @@ TEST(ControllerTest, TheEventLogCountsWhatItDrops) {
     static const MissionState a{MissionStatus::Active, 1, "A", "", false};
     static const MissionState b{MissionStatus::Active, 2, "B", "", false};
     r.mission.next_state = i % 2 == 0 ? &a : &b;
-    r.tick(int(i));
+    r.tick(int(i) * 10);  // one change every 0.1 s: under kEventsPerSecond, none throttled
   }
   ControllerTelemetry t;
   r.ctl.fill_telemetry(t);
   EXPECT_EQ(t.events_dropped, 5U);
+  EXPECT_EQ(t.events_throttled, 0U);
   EXPECT_EQ(r.events().size(), Controller::kEventLog);
+}
+
+TEST(ControllerTest, AFloodOfEventsIsThrottledAndTheFirstFaultIsKeptApart) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  static const MissionState a{MissionStatus::Active, 1, "A", "", false};
+  static const MissionState b{MissionStatus::Active, 2, "B", "", false};
+  int i = 0;
+  for (; i < 100; ++i) {  // 1 s flapping between two states: 100 changes
+    r.mission.next_state = i % 2 == 0 ? &a : &b;
+    r.tick(i);
+  }
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.events_throttled, 100U - Controller::kEventsPerSecond);
+  EXPECT_FALSE(t.has_first_fault);
+  r.to_raise = {Fault::ScannerBlind};
+  r.tick(i++);
+  r.burn_ns = 5000;  // then 100 s of the slow task overrunning: one event a second
+  for (; i < 10'100; ++i) r.tick(i);
+  r.ctl.fill_telemetry(t);
+  ASSERT_TRUE(t.has_first_fault);
+  EXPECT_EQ(t.first_fault.fault, Fault::ScannerBlind);
+  EXPECT_EQ(t.first_fault.t_ns, hal::TimeNs(100) * 10'000'000);
+  ASSERT_NE(r.ctl.first_fault(), nullptr);
+  char line[200];
+  format_event(*r.ctl.first_fault(), 1.0, line, sizeof line);
+  EXPECT_TRUE(contains(line, "FAULT scanner_blind (code 0x0000) in ")) << line;
+  // The log itself has long overwritten it: only the copy kept apart survives the flood.
+  bool in_log = false;
+  for (const std::string& e : r.events()) in_log = in_log || contains(e, "scanner_blind");
+  EXPECT_FALSE(in_log);
+  EXPECT_GT(t.events_dropped, 0U);
 }
 
 TEST(ControllerTest, TaskOverrunsBecomeThrottledEvents) {

@@ -46,6 +46,7 @@ TEST(ControllerLoader, ShippedCamperoFile) {
   EXPECT_FALSE(c.can.drives[0].inverted);
   EXPECT_TRUE(c.can.drives[1].inverted);
   EXPECT_EQ(c.can.drive_timeout_ms, 120);
+  EXPECT_EQ(c.can.feedback_missed_syncs, 12);  // its default: 120 ms in 10 ms periods
   EXPECT_DOUBLE_EQ(c.can.sdo_timeout_s, 0.1);
   EXPECT_DOUBLE_EQ(c.can.quick_stop_decel_radps2, 50.0);
   EXPECT_EQ(c.lidar.source, SensorSource::Scip);
@@ -128,6 +129,21 @@ INSTANTIATE_TEST_SUITE_P(
                 ":10: can.master_timeout_ms: expected more than master_heartbeat_ms (50 ms)"},
         BadCase{"max_reads_per_tick: 32", "max_reads_per_tick: 8",
                 ":14: can.max_reads_per_tick: expected an integer in [16, 1024], got 8"},
+        // At most the drive timeout in control periods (120 ms at 100 Hz): never longer on
+        // stale feedback than a lost heartbeat allows.
+        BadCase{"max_reads_per_tick: 32", "max_reads_per_tick: 32\n  feedback_missed_syncs: 13",
+                ":15: can.feedback_missed_syncs: expected an integer in [2, 12], got 13"},
+        BadCase{"max_reads_per_tick: 32", "max_reads_per_tick: 32\n  feedback_missed_syncs: 1",
+                ":15: can.feedback_missed_syncs: expected an integer in [2, 12], got 1"},
+        // 1e7 x 1000 counts per wheel turn: 1.6e9 counts per rad, beyond int32 at any speed.
+        BadCase{"{name: rear_left, node: 3, counts_per_rev: 4096, gear_ratio: 12.52}",
+                "{name: rear_left, node: 3, counts_per_rev: 10000000, gear_ratio: 1000}",
+                ":21: can.drives[2].counts_per_rev: expected counts_per_rev x gear_ratio that "
+                "keep 1.5 x limits.max_wheel_speed_radps"},
+        BadCase{"{name: rear_left, node: 3, counts_per_rev: 4096, gear_ratio: 12.52}",
+                "{name: rear_left, node: 3, counts_per_rev: 1, gear_ratio: 0.5}",
+                ":21: can.drives[2].counts_per_rev: expected counts_per_rev x gear_ratio that "
+                "resolve limits.max_wheel_speed_radps"},
         BadCase{"gear_ratio: 12.52}", "gear_ratio: 0}",
                 ":19: can.drives[0].gear_ratio: expected a number in [0.01, 1000], got 0"},
         BadCase{"inverted: true}", "inverted: yes}",
@@ -144,6 +160,9 @@ INSTANTIATE_TEST_SUITE_P(
                 ":24: sensors.lidar.source: expected one of none, scip, got \"usb\""},
         BadCase{"name: /carril_sensors}\n  imu", "name: carril_sensors}\n  imu",
                 ":25: sensors.camera.name: expected a shared memory name"},
+        BadCase{"camera: {source: shm, name: /carril_sensors}", "camera: {source: shm, name: /..}",
+                ":25: sensors.camera.name: expected a shared memory name: '/' and 1 to 62 letters, "
+                "digits, '_', '-' or '.', not /. or /.."},
         BadCase{"priority: 50", "priority: 99",
                 ":27: loop.priority: expected an integer in [0, 98], got 99"},
         BadCase{"overrun_limit: 5", "overrun_limit: 0",
