@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "loader/SafeCreate.hpp"
+
 namespace carril::loader {
 
 namespace {
@@ -49,19 +51,12 @@ std::optional<std::string> write_file_atomically(const std::string& path, std::s
   const std::filesystem::path target(path);
   const std::filesystem::path dir =
       target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
-  // mkstemp: a fresh name in the same directory (same filesystem, so rename is atomic).
-  std::string pattern = (dir / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0)
-    return path + ": cannot create a temporary file in " + dir.string() + ": " + errno_text(errno);
-  TempFile tmp(fd, name.data());
-  // mkstemp creates 0600; a saved map or an exported image is an ordinary readable file. (Reading
-  // the umask would mean setting it, which is process-wide and races with other threads.)
-  if (::fchmod(tmp.fd(), 0644) != 0) {
-    return path + ": cannot set the mode of " + tmp.path() + ": " + errno_text(errno);
-  }
+  // A fresh name in the same directory (same filesystem, so rename is atomic), created without
+  // following symlinks and with the umask's mode.
+  std::string tmp_path, error;
+  const int fd = create_temp_beside(path, tmp_path, error);
+  if (fd < 0) return error;
+  TempFile tmp(fd, tmp_path);
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(tmp.fd(), bytes.data() + done, bytes.size() - done);

@@ -3,9 +3,11 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "loader/AtomicWrite.hpp"
+#include "loader/SafeCreate.hpp"
 
 namespace carril::loader {
 
@@ -38,6 +40,31 @@ std::string yaml_quoted(const std::string& s) {
   return out + "\"";
 }
 
+// Whether the YAML at `yaml_path` (one this exporter wrote) names `image` as its image.
+bool current_image_is(const std::string& yaml_path, const std::string& image) {
+  std::ifstream in(yaml_path);
+  std::string line;
+  const std::string want = "image: " + yaml_quoted(image);
+  while (std::getline(in, line)) {
+    if (line == want) return true;
+  }
+  return false;
+}
+
+// Temporaries of an export that was killed (".BASE.pgm.tmp.*" and the like), ours only.
+void remove_stale_temporaries(const std::string& base_path) {
+  const std::filesystem::path base(base_path);
+  const std::filesystem::path dir = base.has_parent_path() ? base.parent_path() : ".";
+  const std::string prefix = "." + base.filename().string() + ".";
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || name.find(".tmp.") == std::string::npos) continue;
+    std::string why;
+    clear_stale_output(e.path().string(), why);  // a regular file of ours, or left alone
+  }
+}
+
 }  // namespace
 
 std::uint8_t costmap_pgm_grey(std::uint8_t c) {
@@ -52,8 +79,9 @@ std::uint8_t costmap_pgm_grey(std::uint8_t c) {
   return kGreyOccupied;  // inscribed, lethal
 }
 
-std::optional<std::string> export_costmap_pgm(const std::string& base_path,
-                                              const std::uint8_t* costs, const CostmapGeometry& g) {
+std::optional<std::string> write_costmap_image(const std::string& base_path,
+                                               const std::uint8_t* costs, const CostmapGeometry& g,
+                                               CostmapImageStep& step) {
   const std::string pgm_path = base_path + ".pgm";
   const std::string yaml_path = base_path + ".yaml";
   if (costs == nullptr || g.nx == 0 || g.ny == 0) {
@@ -76,9 +104,25 @@ std::optional<std::string> export_costmap_pgm(const std::string& base_path,
     char* dst = pgm.data() + header + row * nx;
     for (std::size_t i = 0; i < nx; ++i) dst[i] = static_cast<char>(costmap_pgm_grey(src[i]));
   }
-  if (auto err = write_file_atomically(pgm_path, pgm)) return err;
+  // The pair switches at one atomic step, the YAML's rename: the new image goes under the name
+  // the current YAML does not use (BASE.pgm and BASE.next.pgm alternate), so a kill before the
+  // YAML leaves the old pair whole, and one after leaves the new pair; the old image goes last.
+  const std::string next_path = base_path + ".next.pgm";
+  const std::string next_name = std::filesystem::path(next_path).filename().string();
+  const bool old_uses_next = current_image_is(yaml_path, next_name);
+  step.had_yaml = std::filesystem::exists(yaml_path);
+  step.old_image_path = old_uses_next ? next_path : pgm_path;
+  // With no YAML yet there is no old pair to keep: the image takes the plain name.
+  step.image_path = !step.had_yaml ? pgm_path : old_uses_next ? pgm_path : next_path;
+  remove_stale_temporaries(base_path);
+  return write_file_atomically(step.image_path, pgm);
+}
+
+std::optional<std::string> commit_costmap_yaml(const std::string& base_path,
+                                               const CostmapGeometry& g,
+                                               const CostmapImageStep& step) {
   // map_server resolves `image` relative to the YAML file.
-  const std::string image = std::filesystem::path(pgm_path).filename().string();
+  const std::string image = std::filesystem::path(step.image_path).filename().string();
   const std::string yaml =
       "# carril costmap (docs/map-formats.md): trinary, so unknown cells stay unknown;\n"
       "# graded costs are greys that read as free.\n"
@@ -91,7 +135,19 @@ std::optional<std::string> export_costmap_pgm(const std::string& base_path,
       "negate: 0\n"
       "occupied_thresh: 0.65\n"
       "free_thresh: 0.196\n";
-  return write_file_atomically(yaml_path, yaml);
+  if (auto err = write_file_atomically(base_path + ".yaml", yaml)) return err;
+  if (step.had_yaml && step.old_image_path != step.image_path) {
+    std::error_code ec;
+    std::filesystem::remove(step.old_image_path, ec);  // the old pair's image; absent is fine
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> export_costmap_pgm(const std::string& base_path,
+                                              const std::uint8_t* costs, const CostmapGeometry& g) {
+  CostmapImageStep step;
+  if (auto err = write_costmap_image(base_path, costs, g, step)) return err;
+  return commit_costmap_yaml(base_path, g, step);
 }
 
 }  // namespace carril::loader

@@ -23,12 +23,30 @@ struct CostmapGeometry {
 // lethal 0 (black, occupied).
 std::uint8_t costmap_pgm_grey(std::uint8_t cost);
 
-// Writes BASE.pgm (binary P5, 8 bit, top row = highest y) and BASE.yaml (image: BASE.pgm
-// relative, resolution, origin [x, y, 0.0], negate 0, occupied_thresh 0.65, free_thresh 0.196,
-// mode trinary), each atomically, the image first. nullopt on success, else a message naming the
-// file.
+// Writes the image (binary P5, 8 bit, top row = highest y) and BASE.yaml (image relative,
+// resolution, origin [x, y, 0.0], negate 0, occupied_thresh 0.65, free_thresh 0.196, mode
+// trinary), each atomically, the image first. A kill at any moment leaves the old pair or the new
+// one: the image is BASE.pgm, or BASE.next.pgm when the YAML being replaced uses BASE.pgm (they
+// alternate), the YAML's rename switches pairs, the old image is removed after; temporaries of
+// an export that was killed are removed by the next. nullopt on success, else a message naming
+// the file.
 std::optional<std::string> export_costmap_pgm(const std::string& base_path,
                                               const std::uint8_t* costs,
                                               const CostmapGeometry& geometry);
+
+// The two steps of export_costmap_pgm(), apart so that a test can stop between them as a kill
+// would: the image under the name the current YAML does not use, then the YAML that switches.
+struct CostmapImageStep {
+  std::string image_path;      // where the new image went
+  std::string old_image_path;  // the current YAML's image, removed once the new YAML is in
+  bool had_yaml = false;       // a YAML was there before
+};
+std::optional<std::string> write_costmap_image(const std::string& base_path,
+                                               const std::uint8_t* costs,
+                                               const CostmapGeometry& geometry,
+                                               CostmapImageStep& step);
+std::optional<std::string> commit_costmap_yaml(const std::string& base_path,
+                                               const CostmapGeometry& geometry,
+                                               const CostmapImageStep& step);
 
 }  // namespace carril::loader

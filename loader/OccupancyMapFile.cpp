@@ -47,6 +47,17 @@ std::string describe_byte(char c) {
   return buf;
 }
 
+// What a file that is not a PGM looks like, by its magic: "a PNG file", "an empty file".
+std::string kind_of(std::string_view b) {
+  auto starts = [&](std::string_view m) { return b.substr(0, m.size()) == m; };
+  if (b.empty()) return "an empty file";
+  if (starts("\x89PNG")) return "it looks like a PNG file";
+  if (starts("GIF8")) return "it looks like a GIF file";
+  if (starts("\xFF\xD8\xFF")) return "it looks like a JPEG file";
+  if (starts("BM")) return "it looks like a BMP file";
+  return "it does not start with P5 or P2";
+}
+
 // Netpbm's tokens: decimal numbers separated by whitespace, '#' comments to the end of a line.
 class PgmScanner {
  public:
@@ -94,11 +105,8 @@ class PgmScanner {
 
 PgmHeader read_pgm_header(std::string_view b) {
   if (b.size() < 2 || b[0] != 'P' || (b.size() > 2 && !is_space(b[2]) && b[2] != '#')) {
-    std::string start;
-    for (std::size_t i = 0; i < b.size() && i < 2; ++i)
-      start += (i > 0 ? " " : "") + describe_byte(b[i]);
-    throw PgmError("not a PGM image (it starts with " + (start.empty() ? "nothing" : start) +
-                   ", expected the magic P5 or P2)");
+    // What it is, when that is known; never its bytes (it may be any file on the machine).
+    throw PgmError("not a PGM image (" + kind_of(b) + ", expected the magic P5 or P2)");
   }
   PgmHeader h;
   if (b[1] == '5') {
@@ -110,8 +118,7 @@ PgmHeader read_pgm_header(std::string_view b) {
                    " is another netpbm type: bitmap, colour or PAM), expected a greyscale PGM "
                    "(P5 or P2)");
   } else {
-    throw PgmError("not a PGM image (it starts with 'P' " + describe_byte(b[1]) +
-                   ", expected the magic P5 or P2)");
+    throw PgmError("not a PGM image (a 'P' without the 5 or 2 of the PGM magic)");
   }
   PgmScanner s(b, 2);
   h.width = s.number("width");

@@ -9,11 +9,23 @@
 #include <fstream>
 #include <sstream>
 
+#include "loader/YamlPrecheck.hpp"
+
 namespace carril::loader::strict {
 
 namespace {
 
 constexpr std::size_t kMaxQuoted = 60;  // long scalars are cut in messages
+
+// A key a carril file could have, misspelt or not: 1 to 64 letters, digits, '_', '-' or '.'.
+// Anything else is not echoed in messages.
+bool looks_like_key(const std::string& k) {
+  if (k.empty() || k.size() > 64) return false;
+  return std::all_of(k.begin(), k.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
+  });
+}
 
 std::string quoted(const std::string& s) {
   std::string out = "\"";
@@ -168,6 +180,11 @@ void Node::reject_tag(const std::string& what) const {
 
 std::string Node::describe() const {
   if (!node_.IsDefined()) return "nothing";
+  if (root_ && node_.IsScalar()) {
+    // The whole document is one scalar: a file of another kind, whose bytes are not echoed.
+    return "a single value of " + std::to_string(node_.Scalar().size()) +
+           " bytes (is this the right file?)";
+  }
   std::string tag;
   if (has_explicit_tag()) tag = tag_text() + " ";
   switch (node_.Type()) {
@@ -217,6 +234,13 @@ void Node::expect_map(const std::vector<std::string_view>& allowed) const {
     }
     bool ok = false;
     for (auto a : allowed) ok = ok || a == key;
+    if (!ok && !looks_like_key(key)) {
+      // Most likely a file of another kind (a password file named as a map): its bytes are not
+      // echoed, only what was expected.
+      Node(it->first, path_, file_)
+          .fail("expected a map of keys (" + join(allowed) + "), got a key of " +
+                std::to_string(key.size()) + " bytes that is not a name (is this the right file?)");
+    }
     if (!ok) key_node.fail("unknown key (allowed: " + join(allowed) + ")");
     seen.emplace_back(key, key_node.line());
   }
@@ -347,6 +371,7 @@ std::string Node::one_of(std::initializer_list<std::string_view> allowed) const 
 
 Node parse_document(const std::string& text, const std::string* file) {
   std::vector<YAML::Node> docs;
+  if (const std::string e = precheck_yaml(text); !e.empty()) throw LoadError(*file + ":" + e);
   try {
     check_parser_progress(text, file);
     docs = YAML::LoadAll(text);
@@ -360,7 +385,7 @@ Node parse_document(const std::string& text, const std::string* file) {
     Node(docs[1], "(top level)", file)
         .expected("one YAML document", std::to_string(docs.size()) + " documents");
   }
-  return Node(docs[0], "", file);
+  return Node(docs[0], "", file, /*root=*/true);
 }
 
 std::string parse_name(const Node& n) {
@@ -378,6 +403,13 @@ std::string parse_name(const Node& n) {
 std::string read_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw LoadError(path + ": cannot open");
+  // Checked before reading: a huge file (or /dev/zero behind a name) is refused, not parsed.
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw LoadError(path + ": cannot read its size");
+  if (size > kMaxYamlBytes) {
+    throw LoadError(path + ": " + std::to_string(size) + " bytes, more than the " +
+                    std::to_string(kMaxYamlBytes) + " a carril YAML file may have");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LoadError(path + ": cannot open");
   std::ostringstream ss;

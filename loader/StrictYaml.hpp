@@ -51,8 +51,9 @@ std::string format_number(double v);
 // A YAML node together with its key path and file, so any check can produce a full message.
 class Node {
  public:
-  Node(YAML::Node node, std::string path, const std::string* file)
-      : node_(std::move(node)), path_(std::move(path)), file_(file) {}
+  // root: the whole document (a scalar there is a file of another kind: never echoed).
+  Node(YAML::Node node, std::string path, const std::string* file, bool root = false)
+      : node_(std::move(node)), path_(std::move(path)), file_(file), root_(root) {}
 
   const YAML::Node& yaml() const { return node_; }
   const std::string& path() const { return path_; }
@@ -107,9 +108,14 @@ class Node {
   YAML::Node node_;
   std::string path_;
   const std::string* file_;
+  bool root_ = false;
 };
 
-// Parses `text` as exactly one YAML document; syntax errors become LoadError with file:line.
+// The largest YAML file read_file() accepts [bytes]: every carril file is far smaller.
+constexpr std::uintmax_t kMaxYamlBytes = 4U << 20U;
+
+// Parses `text` as exactly one YAML document; syntax errors (and what precheck_yaml() finds)
+// become LoadError with file:line.
 Node parse_document(const std::string& text, const std::string* file);
 
 // Reads a whole file; throws LoadError "<path>: cannot open" when it is not a readable file.

@@ -14,9 +14,16 @@ namespace carril::hal {
 
 namespace {
 
+// '/' and 1 to 62 of [A-Za-z0-9_.-], not "/." or "/.." (which name /dev/shm or /dev itself).
 bool name_ok(const char* name) {
-  return name != nullptr && name[0] == '/' && name[1] != '\0' && std::strlen(name) < 64 &&
-         std::strchr(name + 1, '/') == nullptr;
+  if (name == nullptr || name[0] != '/' || name[1] == '\0' || std::strlen(name) >= 64) return false;
+  if (std::strcmp(name, "/.") == 0 || std::strcmp(name, "/..") == 0) return false;
+  for (const char* c = name + 1; *c != '\0'; ++c) {
+    const bool ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') ||
+                    (*c >= '0' && *c <= '9') || *c == '_' || *c == '-' || *c == '.';
+    if (!ok) return false;
+  }
+  return true;
 }
 
 std::size_t frame_bytes(const CameraFrame& f) {
@@ -186,11 +193,11 @@ bool ShmSensorReader::open(const char* name) {
   unmap();
   if (!name_ok(name)) {
     std::snprintf(error_, sizeof error_,
-                  "shared memory name '%s': expected '/' and up to 62 characters, no other '/'",
-                  name != nullptr ? name : "(null)");
+                  "shared memory name: expected '/' and 1 to 62 letters, digits, '_', '-' or "
+                  "'.', not /. or /..");
     return false;
   }
-  const int fd = shm_open(name, O_RDONLY | O_CLOEXEC, 0);
+  const int fd = shm_open(name, O_RDONLY | O_CLOEXEC | O_NOFOLLOW, 0);
   if (fd < 0) {
     std::snprintf(error_, sizeof error_,
                   "shared memory %s: cannot open: %s (is the simulator running with --hil?)", name,
@@ -198,7 +205,22 @@ bool ShmSensorReader::open(const char* name) {
     return false;
   }
   struct stat st {};
-  if (fstat(fd, &st) != 0 || std::size_t(st.st_size) != sizeof(ShmSensorLayout)) {
+  if (fstat(fd, &st) != 0) {
+    std::snprintf(error_, sizeof error_, "shared memory %s: cannot stat: %s", name,
+                  std::strerror(errno));
+    close(fd);
+    return false;
+  }
+  // The camera and IMU steer the robot: only a segment of this user that nobody else can write.
+  if (!S_ISREG(st.st_mode) || st.st_uid != geteuid() || (st.st_mode & 0022) != 0) {
+    std::snprintf(error_, sizeof error_,
+                  "shared memory %s: owner uid %u, mode %04o: expected a segment of uid %u (this "
+                  "controller's user) that group and others cannot write",
+                  name, unsigned(st.st_uid), unsigned(st.st_mode & 07777), unsigned(geteuid()));
+    close(fd);
+    return false;
+  }
+  if (std::size_t(st.st_size) != sizeof(ShmSensorLayout)) {
     std::snprintf(error_, sizeof error_,
                   "shared memory %s: size %lld bytes, expected %zu (a writer of another layout "
                   "version?)",

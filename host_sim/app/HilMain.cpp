@@ -11,6 +11,7 @@
 #include "host_sim/app/HilRun.hpp"
 #include "host_sim/output/RunOutputs.hpp"
 #include "loader/ControllerLoader.hpp"
+#include "loader/SafeCreate.hpp"
 
 namespace carril::sim {
 
@@ -67,9 +68,10 @@ int run_hil(const Scenario& scenario, std::uint64_t seed, const std::string& out
   std::FILE* log = nullptr;
   const std::string log_part = opt.can_log + ".part";
   if (!opt.can_log.empty()) {
-    log = std::fopen(log_part.c_str(), "w");
+    std::string why;
+    log = loader::open_new_output(log_part, why);
     if (log == nullptr) {
-      std::fprintf(stderr, "carril_sim: --can-log: cannot write %s\n", log_part.c_str());
+      std::fprintf(stderr, "carril_sim: --can-log: %s\n", why.c_str());
       return 2;
     }
     cfg.can_log = log;

@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "host_sim/scenario/ScenarioLoader.hpp"
+#include "loader/StrictYaml.hpp"
+#include "loader/YamlPrecheck.hpp"
 
 namespace carril::sim::campaign {
 
@@ -249,7 +251,14 @@ ScenarioText variant_scenario(const CampaignSpec& spec, const Variant& v) {
   ScenarioText r;
   const std::string& base = spec.scenarios.at(v.scenario);
   try {
-    YAML::Node root = YAML::LoadFile(base);
+    // The base as every loader reads it: size-bounded, and pre-checked so that yaml-cpp's
+    // leniency (an unterminated quote swallowing the rest) cannot reach the variant.
+    const std::string base_text = loader::strict::read_file(base);
+    if (const std::string e = loader::strict::precheck_yaml(base_text); !e.empty()) {
+      r.error = base + ":" + e;
+      return r;
+    }
+    YAML::Node root = YAML::Load(base_text);
     if (!root.IsMap()) {
       r.error = base + ": expected a scenario (a map)";
       return r;

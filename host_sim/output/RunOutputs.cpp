@@ -15,6 +15,7 @@
 
 #include "host_sim/output/Json.hpp"
 #include "host_sim/output/Plots.hpp"
+#include "loader/AtomicWrite.hpp"
 
 namespace carril::sim {
 namespace {
@@ -41,38 +42,12 @@ void fsync_dir(const std::filesystem::path& dir) {
 }  // namespace
 
 bool write_file_atomic(const std::string& path, const std::string& content, std::string& error) {
-  // The temporary lives in the target's directory so that rename() is atomic (same filesystem);
-  // the pid keeps concurrent runs writing the same file from trampling each other's temporary.
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  auto fail = [&](const char* what, int err, bool remove_tmp) {
-    if (remove_tmp) ::unlink(tmp.c_str());
-    error = "cannot write " + path + ": " + what + ": " + errno_text(err);
+  // One atomic writer for the whole project: a fresh temporary (no symlink followed, no name
+  // reused, the umask's mode), fsync, rename, fsync of the directory.
+  if (const std::optional<std::string> e = loader::write_file_atomically(path, content)) {
+    error = "cannot write " + *e;
     return false;
-  };
-
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return fail("open", errno, false);
-  const char* p = content.data();
-  std::size_t left = content.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      return fail("write", err, true);
-    }
-    p += n;
-    left -= static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    return fail("fsync", err, true);
-  }
-  if (::close(fd) != 0) return fail("close", errno, true);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) return fail("rename", errno, true);
-  fsync_dir(std::filesystem::path(path).parent_path());
   return true;
 }
 

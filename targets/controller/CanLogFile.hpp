@@ -6,19 +6,24 @@
 #include <string>
 
 #include "hal/can/CanLogTap.hpp"
+#include "loader/SafeCreate.hpp"
 
 namespace carril::controller {
 
 class CanLogFile {
  public:
-  // Init: opens FILE.part for `tap`'s records. False when it cannot be written.
+  // Init: creates FILE.part for `tap`'s records (a leftover one of ours from a killed run is
+  // replaced; a symlink or another user's file there is refused). False with error() set when
+  // it cannot be written.
   bool open(const char* path, hal::CanLogTap& tap) {
     path_ = path;
     part_ = path_ + ".part";
     tap_ = &tap;
-    f_ = std::fopen(part_.c_str(), "w");
+    f_ = loader::open_new_output(part_, error_);
     return f_ != nullptr;
   }
+  // Why open() failed.
+  const std::string& error() const { return error_; }
   // Slow task (and once more after the loop stopped): writes what the tap holds.
   void run() {
     if (f_ == nullptr || tap_ == nullptr) return;
@@ -37,7 +42,7 @@ class CanLogFile {
   std::size_t lines() const { return lines_; }
 
  private:
-  std::string path_, part_;
+  std::string path_, part_, error_;
   hal::CanLogTap* tap_ = nullptr;
   std::FILE* f_ = nullptr;
   std::size_t lines_ = 0;

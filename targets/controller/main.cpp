@@ -280,7 +280,9 @@ void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
                 static_cast<unsigned long long>(task.runs),
                 static_cast<unsigned long long>(task.overruns), task.p99_us, task.max_us);
   }
-  std::printf("  events dropped %llu\n", static_cast<unsigned long long>(t.events_dropped));
+  std::printf("  events dropped %llu, throttled %llu\n",
+              static_cast<unsigned long long>(t.events_dropped),
+              static_cast<unsigned long long>(t.events_throttled));
   std::printf(
       "  components: odometry %llu updates, %.2f m; camera frames %llu, scans %llu; motion %llu "
       "commands, %llu with drives not ready, %llu quick stops\n",
@@ -332,6 +334,20 @@ void print_events(Controller& ctl, carril::hal::TimeNs t0_ns) {
   }
 }
 
+// The fault that stopped the robot, first in the report: neither a flood of events nor later
+// faults can push it out.
+void print_first_fault(Controller& ctl, const carril::controller::Hardware& hw,
+                       carril::hal::TimeNs t0_ns) {
+  if (const Event* e = ctl.first_fault()) {
+    char line[160];
+    carril::fw::format_event(*e, double(e->t_ns - t0_ns) * 1e-9, line, sizeof line);
+    std::printf("first fault: %s\n", line);
+  }
+  if (hw.can_drives && *hw.can_drives->first_fault() != '\0') {
+    std::printf("canopen: first fault: %s\n", hw.can_drives->first_fault());
+  }
+}
+
 // The CAN side's counters and the master's last fault (after the loop stopped).
 void print_can(const carril::controller::Hardware& hw) {
   if (!hw.can_drives) return;
@@ -347,12 +363,14 @@ void print_can(const carril::controller::Hardware& hw) {
       static_cast<unsigned long long>(hw.socket->link_down_events()));
   std::printf(
       "canopen: syncs %llu, tpdo1 %llu, tpdo2 %llu, heartbeats %llu, emcy %llu, unknown node "
-      "%llu, unknown cob %llu, malformed %llu, heartbeat losses %llu, faults %llu, fault resets "
-      "%llu\n",
+      "%llu, unknown cob %llu, malformed %llu, implausible %llu, feedback bad %llu, heartbeat "
+      "losses %llu, faults %llu, fault resets %llu\n",
       static_cast<unsigned long long>(c.syncs), static_cast<unsigned long long>(c.tpdo1),
       static_cast<unsigned long long>(c.tpdo2), static_cast<unsigned long long>(c.heartbeats),
       static_cast<unsigned long long>(c.emcy), static_cast<unsigned long long>(c.unknown_node),
       static_cast<unsigned long long>(c.unknown_cob), static_cast<unsigned long long>(c.malformed),
+      static_cast<unsigned long long>(c.implausible),
+      static_cast<unsigned long long>(c.feedback_bad),
       static_cast<unsigned long long>(c.heartbeat_losses),
       static_cast<unsigned long long>(c.faults), static_cast<unsigned long long>(c.fault_resets));
   if (*hw.can_drives->last_fault() != '\0') {
@@ -407,7 +425,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (hw->tap && !topo->can_log.open(opt.can_log, *hw->tap)) {
-    std::fprintf(stderr, "carril_controller: --can-log: cannot write %s.part\n", opt.can_log);
+    std::fprintf(stderr, "carril_controller: --can-log: %s\n", topo->can_log.error().c_str());
     return 2;
   }
   topo->firmware.controller.set_overrun_limit(static_cast<std::uint32_t>(spec.loop.overrun_limit));
@@ -546,6 +564,7 @@ int main(int argc, char** argv) {
     std::printf("carril_controller: stopped by a signal (%s) after %llu ticks\n", sig_name,
                 static_cast<unsigned long long>(tel.ticks));
   }
+  print_first_fault(t.firmware.controller, *hw, t0_ns);
   print_telemetry(all, loop);
   {
     // The final figures, printed here with the rest (the slow thread has stopped).

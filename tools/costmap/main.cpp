@@ -9,10 +9,16 @@
 // Exit status: 0 ok, 1 bad file or I/O error, 2 usage.
 #include <png.h>
 
+#include <signal.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -27,6 +33,8 @@
 #include "loader/CostmapExport.hpp"
 #include "loader/CostmapPng.hpp"
 #include "loader/ElevationMapFile.hpp"
+#include "loader/StrictYaml.hpp"
+#include "loader/YamlPrecheck.hpp"
 
 namespace {
 
@@ -35,6 +43,32 @@ using carril::loader::ElevationMapData;
 // A saved map this tool reads at most: 2^28 cells is 2 GiB of cells, beyond any site survey.
 constexpr std::uint64_t kMaxCells = std::uint64_t{1} << 28;
 constexpr int kMaxScale = 16;
+// PNGs this tool writes at most: libpng's own limit on a side, and 2^28 pixels (256 MiB of grey).
+constexpr std::uint64_t kMaxImageSide = 1'000'000;
+constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 28;
+// What derive holds per cell (elevation, terrain analysis, traversability, inflation, costmap,
+// the exported copies and the preview at scale 2), for the memory check before it starts [bytes].
+constexpr std::uint64_t kDeriveBytesPerCell = 96;
+
+// Blocks SIGINT, SIGTERM and SIGHUP for its lifetime; one that came meanwhile is delivered at
+// the end of the scope.
+class SignalsHeld {
+ public:
+  SignalsHeld() {
+    sigset_t s;
+    sigemptyset(&s);
+    sigaddset(&s, SIGINT);
+    sigaddset(&s, SIGTERM);
+    sigaddset(&s, SIGHUP);
+    sigprocmask(SIG_BLOCK, &s, &old_);
+  }
+  ~SignalsHeld() { sigprocmask(SIG_SETMASK, &old_, nullptr); }
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t old_{};
+};
 
 struct HeightRange {
   std::uint64_t observed = 0;
@@ -71,7 +105,42 @@ int info(const std::string& path, const ElevationMapData& m) {
   return 0;
 }
 
+// What the tool may allocate [bytes]: half the machine's memory, and 3/4 of an address-space
+// limit (ulimit -v) when one is set.
+std::uint64_t memory_budget() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  std::uint64_t budget = pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) / 2
+                                               : std::numeric_limits<std::uint64_t>::max();
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    budget = std::min<std::uint64_t>(budget, std::uint64_t(as.rlim_cur) / 4 * 3);
+  }
+  return budget;
+}
+
+// Checked before allocating (a valid map at a large SCALE must get an error, not bad_alloc).
+bool image_fits(std::uint64_t nx, std::uint64_t ny, int scale, const char* what) {
+  const std::uint64_t w = nx * std::uint64_t(scale), h = ny * std::uint64_t(scale);
+  // The grey image and libpng's output buffer, about twice the pixels.
+  if (w <= kMaxImageSide && h <= kMaxImageSide && w * h <= kMaxImagePixels &&
+      2 * w * h <= memory_budget()) {
+    return true;
+  }
+  std::fprintf(stderr,
+               "carril_costmap: %s: %llu x %llu cells at scale %d is %llu x %llu pixels; a PNG of "
+               "this tool has at most %llu pixels a side, %llu in all, and twice its pixels "
+               "within the %llu MiB it may use%s\n",
+               what, static_cast<unsigned long long>(nx), static_cast<unsigned long long>(ny),
+               scale, static_cast<unsigned long long>(w), static_cast<unsigned long long>(h),
+               static_cast<unsigned long long>(kMaxImageSide),
+               static_cast<unsigned long long>(kMaxImagePixels),
+               static_cast<unsigned long long>(memory_budget() >> 20),
+               scale > 1 ? " (try a smaller SCALE)" : "");
+  return false;
+}
+
 int heights(const ElevationMapData& m, const std::string& out, int scale) {
+  if (!image_fits(m.nx, m.ny, scale, "heights")) return 1;
   const HeightRange r = height_range(m);
   const double span = r.max_m - r.min_m;
   const auto s = static_cast<std::size_t>(scale);
@@ -122,8 +191,13 @@ bool read_profile(const std::string& path, carril::fw::TraversabilityProfile& p,
                   std::string& error) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
+    const std::string text = carril::loader::strict::read_file(path);
+    if (const std::string e = carril::loader::strict::precheck_yaml(text); !e.empty()) {
+      error = path + ":" + e;
+      return false;
+    }
+    root = YAML::Load(text);
+  } catch (const std::exception& e) {
     error = path + ": " + e.what();
     return false;
   }
@@ -173,6 +247,18 @@ int derive(const ElevationMapData& m, const std::string& robot, const std::strin
     std::fprintf(stderr, "%s: %s\n", robot.c_str(), st.message());
     return 1;
   }
+  // Sized before anything is allocated: against the preview's limits and this machine's memory.
+  if (!image_fits(m.nx, m.ny, 2, "derive (its OUT.png preview)")) return 1;
+  const std::uint64_t cells = std::uint64_t(m.nx) * m.ny;
+  const std::uint64_t budget = memory_budget();
+  if (cells * kDeriveBytesPerCell > budget) {
+    std::fprintf(stderr,
+                 "carril_costmap: derive: %u x %u cells need about %llu MiB, more than the %llu "
+                 "MiB it may use (half this machine's memory, 3/4 of its address-space limit)\n",
+                 m.nx, m.ny, static_cast<unsigned long long>(cells * kDeriveBytesPerCell >> 20),
+                 static_cast<unsigned long long>(budget >> 20));
+    return 1;
+  }
   const int nx = static_cast<int>(m.nx), ny = static_cast<int>(m.ny);
   const double res = m.resolution_m;
   RollingGrid<ElevationCell> elevation;
@@ -200,6 +286,9 @@ int derive(const ElevationMapData& m, const std::string& robot, const std::strin
   std::vector<std::uint8_t> costs(std::size_t(nx) * std::size_t(ny));
   costmap.copy_to(costs.data());
   const carril::loader::CostmapGeometry g{m.nx, m.ny, res, m.origin_x_m, m.origin_y_m};
+  // A stopping signal waits until the pair is written: it ends the tool right after, with the
+  // new pair complete and no temporary behind (a kill -9 leaves the old pair or the new one).
+  const SignalsHeld held;
   if (auto e = carril::loader::export_costmap_pgm(out, costs.data(), g)) {
     std::fprintf(stderr, "%s\n", e->c_str());
     return 1;
@@ -220,8 +309,8 @@ int derive(const ElevationMapData& m, const std::string& robot, const std::strin
   std::printf("%s: profile max slope %.3g deg, step up %.3g m, step down %.3g m, width %.3g m\n",
               robot.c_str(), profile.max_slope_deg, profile.max_step_up_m, profile.max_step_down_m,
               width_m);
-  std::printf("wrote %s.pgm, %s.yaml, %s.png: %zu passable, %zu lethal, %zu unknown cells\n",
-              out.c_str(), out.c_str(), out.c_str(), passable, lethal, unknown);
+  std::printf("wrote %s.yaml with its image, %s.png: %zu passable, %zu lethal, %zu unknown cells\n",
+              out.c_str(), out.c_str(), passable, lethal, unknown);
   return 0;
 }
 
@@ -236,7 +325,19 @@ int usage() {
 
 }  // namespace
 
+static int run_tool(int argc, char** argv);
+
 int main(int argc, char** argv) {
+  try {
+    return run_tool(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "carril_costmap: out of memory (files already there are left as they were)\n");
+    return 1;
+  }
+}
+
+static int run_tool(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string cmd = argv[1];
   const std::string path = argv[2];

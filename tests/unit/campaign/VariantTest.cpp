@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <string>
 
@@ -46,6 +47,19 @@ TEST(VariantTest, IndicesWalkScenariosThenRobotsThenVariants) {
   EXPECT_EQ(make_variant(s, 3).strategy, "pid");
   EXPECT_EQ(make_variant(s, 6).base_name, "corners");
   EXPECT_EQ(make_variant(s, 11).preset, "pioneer3at");
+}
+
+// yaml-cpp 0.7 reads the quote on to the end of the file: the variant would lose its expect
+// block and pass. The base is pre-checked as every loader's file is.
+TEST(VariantTest, ABaseWithAnUnterminatedQuoteIsRefusedNotSwallowed) {
+  CampaignSpec s = spec_of(kCampaign);
+  const std::string bad = ::testing::TempDir() + "/quote_base.yaml";
+  std::ofstream(bad) << "name: \"circle\nexpect: {result: end_reached}\n";
+  s.scenarios[0] = bad;
+  const ScenarioText t = variant_scenario(s, make_variant(s, 0));
+  EXPECT_FALSE(t.ok);
+  EXPECT_EQ(t.error.rfind(bad + ":1: invalid YAML: the double quote at column 7", 0), 0U)
+      << t.error;
 }
 
 TEST(VariantTest, TheSameIndexGivesTheSameScenarioAndAnotherDiffers) {

@@ -1,6 +1,9 @@
 #include "hal/linux/ShmSensorLink.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -98,6 +101,37 @@ TEST(ShmSensorLink, BadNamesAndMissingObjectsAreNamedInTheError) {
   EXPECT_NE(std::string(r.error()).find(name + ": cannot open"), std::string::npos) << r.error();
   EXPECT_EQ(r.camera().latest(), nullptr);
   EXPECT_FALSE(r.imu().read().valid);
+}
+
+// Issue 46 item 7: a segment planted by another user, or one others can write, would steer the
+// robot; "/.." would open /dev itself.
+TEST(ShmSensorLink, ASegmentOthersCanWriteOrOfAnotherUserIsRefusedNamingOwnerAndMode) {
+  const std::string name = shm_name("mode");
+  ShmSensorWriter w;
+  ASSERT_TRUE(w.create(name.c_str())) << w.error();
+  const int fd = shm_open(name.c_str(), O_RDWR, 0);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(fchmod(fd, 0666), 0);
+  ShmSensorReader r;
+  EXPECT_FALSE(r.open(name.c_str()));
+  const std::string me = std::to_string(geteuid());
+  EXPECT_NE(std::string(r.error()).find("owner uid " + me +
+                                        ", mode 0666: expected a segment of uid " + me),
+            std::string::npos)
+      << r.error();
+  ASSERT_EQ(fchmod(fd, 0600), 0);
+  EXPECT_TRUE(r.open(name.c_str())) << r.error();
+  if (geteuid() == 0) {  // only root can give it away; elsewhere the mode case stands alone
+    ASSERT_EQ(fchown(fd, 65534, 65534), 0);
+    EXPECT_FALSE(r.open(name.c_str()));
+    EXPECT_NE(std::string(r.error()).find("owner uid 65534, mode 0600"), std::string::npos)
+        << r.error();
+  }
+  close(fd);
+  for (const char* bad : {"/..", "/.", "/a b", "/x\n"}) {
+    EXPECT_FALSE(r.open(bad)) << bad;
+    EXPECT_NE(std::string(r.error()).find("not /. or /.."), std::string::npos) << r.error();
+  }
 }
 
 TEST(ShmSensorLink, NoTornFrameUnderConcurrentWrites) {

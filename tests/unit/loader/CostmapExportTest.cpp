@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <vector>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "tests/unit/loader/MapFileTestUtil.hpp"
@@ -92,6 +93,32 @@ TEST(CostmapExport, PgmIsFlippedVerticallyWithTheMapServerYaml) {
   EXPECT_EQ(y["negate"].as<int>(), 0);
   EXPECT_DOUBLE_EQ(y["occupied_thresh"].as<double>(), 0.65);
   EXPECT_DOUBLE_EQ(y["free_thresh"].as<double>(), 0.196);
+}
+
+// Issue 46 item 9: a kill between the image and the YAML must leave the old pair whole. The
+// export is stopped there as a kill would stop it: the YAML still names an image of its own
+// geometry; then the export completes and the new pair replaces it, one image left.
+TEST(CostmapExport, AnExportStoppedBetweenImageAndYamlLeavesTheOldPairWhole) {
+  const auto dir = fresh_dir();
+  const std::string base = (dir / "lab").string();
+  const std::vector<std::uint8_t> old_costs(3 * 2, cost::kLethal), new_costs(5 * 4, cost::kFree);
+  const CostmapGeometry old_g{3, 2, 0.05, -1.5, 2.25}, new_g{5, 4, 0.1, 0.0, 0.0};
+  for (int generation = 0; generation < 3; ++generation) {  // both image names, in turn
+    ASSERT_EQ(export_costmap_pgm(base, old_costs.data(), old_g), std::nullopt);
+    CostmapImageStep step;
+    ASSERT_EQ(write_costmap_image(base, new_costs.data(), new_g, step), std::nullopt);
+    // Killed here: the YAML and the image it names are the old pair.
+    const YAML::Node y = YAML::LoadFile(base + ".yaml");
+    EXPECT_DOUBLE_EQ(y["resolution"].as<double>(), 0.05);
+    const std::string image = read_bytes(dir / y["image"].as<std::string>());
+    EXPECT_EQ(image.substr(0, 11), "P5\n3 2\n255\n") << generation;
+    EXPECT_NE(step.image_path, (dir / y["image"].as<std::string>()).string());
+    ASSERT_EQ(commit_costmap_yaml(base, new_g, step), std::nullopt);
+    const YAML::Node n = YAML::LoadFile(base + ".yaml");
+    EXPECT_DOUBLE_EQ(n["resolution"].as<double>(), 0.1);
+    EXPECT_EQ(read_bytes(dir / n["image"].as<std::string>()).substr(0, 11), "P5\n5 4\n255\n");
+    EXPECT_EQ(list_dir(dir).size(), 2U);  // the YAML and its image: the old image is gone
+  }
 }
 
 TEST(CostmapExport, BadInputIsNamed) {

@@ -205,11 +205,12 @@ TEST(OccupancyMapFile, NotAPgm) {
   const std::string png = "\x89PNG\r\n\x1a\n" + std::string(16, '\0');
   const std::string yaml = write_map(png);
   const std::string pgm = (std::filesystem::path(yaml).parent_path() / "m.pgm").string();
-  expect_error(yaml, {": image: " + pgm + ": not a PGM image (it starts with 0x89 'P'"});
+  expect_error(yaml, {": image: " + pgm +
+                      ": not a PGM image (it looks like a PNG file, expected the magic P5 or P2)"});
   expect_error(write_map("P6\n3 2\n255\n" + std::string(18, '\0')),
                {"image: ", "magic P6 is another netpbm type"});
   expect_error(write_map("P55 3 2 255\n"), {"image: ", "not a PGM image"});
-  expect_error(write_map(""), {"image: ", "not a PGM image (it starts with nothing"});
+  expect_error(write_map(""), {"image: ", "not a PGM image (an empty file"});
 }
 
 TEST(OccupancyMapFile, MissingImage) {

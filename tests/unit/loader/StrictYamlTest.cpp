@@ -70,6 +70,51 @@ TEST(StrictYamlDeathTest, TheRobotLoaderNamesTheFileOfAStrayComma) {
       ::testing::ExitedWithCode(0), "stray_comma_hang:3: invalid YAML: unexpected ','");
 }
 
+// A map path in a mission reached /etc/shadow, and the message printed its first line. A file
+// of another kind is named and what was expected said, never its bytes.
+TEST(StrictYaml, AFileOfAnotherKindIsNamedButNeverEchoed) {
+  const std::string file = "shadow";
+  auto error_of = [&](const std::string& text) {
+    try {
+      parse_document(text, &file).expect_map({"image", "resolution"});
+      return std::string("accepted");
+    } catch (const LoadError& e) {
+      return std::string(e.what());
+    }
+  };
+  const std::string keys = error_of("root:$6$s3cretHash:19000:0:99999:7:::\ndaemon:*:1::\n");
+  EXPECT_EQ(keys,
+            "shadow:1: (top level): expected a map of keys (image, resolution), got a key of 36 "
+            "bytes that is not a name (is this the right file?)");
+  EXPECT_EQ(keys.find("s3cret"), std::string::npos);
+  const std::string scalar = error_of("s3cret line of text\n");
+  EXPECT_EQ(scalar,
+            "shadow:1: (top level): expected a map, got a single value of 19 bytes (is this the "
+            "right file?)");
+  // A misspelt key of the right kind of file is still named: that is the user's own text.
+  EXPECT_EQ(error_of("imge: m.pgm\n").find("shadow:1: imge: unknown key"), 0U);
+}
+
+TEST(StrictYaml, AFileOverTheSizeBoundIsRefusedBeforeParsing) {
+  const std::string big = ::testing::TempDir() + "/big.yaml";
+  {
+    std::FILE* f = std::fopen(big.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fseek(f, long(kMaxYamlBytes), SEEK_SET), 0);  // sparse: no disk used
+    std::fputc('\n', f);
+    std::fclose(f);
+  }
+  try {
+    read_file(big);
+    FAIL() << "read";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(std::string(e.what()), big +
+                                         ": 4194305 bytes, more than the 4194304 a carril YAML "
+                                         "file may have");
+  }
+  std::filesystem::remove(big);
+}
+
 TEST(StrictYaml, DocumentsAreCountedAsBefore) {
   EXPECT_EQ(outcome("a: 1\n"), "ok");
   EXPECT_EQ(outcome("---\na: 1\n...\n"), "ok");
