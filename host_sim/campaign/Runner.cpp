@@ -1,10 +1,12 @@
 #include "host_sim/campaign/Runner.hpp"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -34,7 +36,8 @@ extern "C" void on_stop_signal(int sig) {
   g_stop.store(sig);
 }
 
-// SIGINT/SIGTERM set g_stop (no SA_RESTART: waitpid returns EINTR); restored on destruction.
+// SIGINT, SIGTERM and SIGHUP (a closed terminal) set g_stop (no SA_RESTART: waitpid returns
+// EINTR); restored on destruction.
 class StopSignals {
  public:
   StopSignals() {
@@ -42,17 +45,42 @@ class StopSignals {
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
+    for (std::size_t i = 0; i < kSignals.size(); ++i) sigaction(kSignals[i], &sa, &old_[i]);
   }
   ~StopSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
+    for (std::size_t i = 0; i < kSignals.size(); ++i) sigaction(kSignals[i], &old_[i], nullptr);
   }
 
  private:
-  struct sigaction old_int_ {
-  }, old_term_{};
+  static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
+  std::array<struct sigaction, 3> old_{};
+};
+
+// OUT/.lock, held with flock() for the runner's life: a second runner on the same folder is
+// refused (exclusive for a local run, shared among a Slurm array's tasks). The kernel drops it
+// when the process dies, however it dies: no stale lock after a kill -9.
+class FolderLock {
+ public:
+  bool take(const std::string& out_dir, bool shared, std::string& error) {
+    const std::string path = (fs::path(out_dir) / ".lock").string();
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd_ < 0) {
+      error = path + ": cannot open the folder's lock: " + std::strerror(errno);
+      return false;
+    }
+    if (::flock(fd_, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
+      error = out_dir + ": another carril_campaign is running on this folder (" + path +
+              " is locked); wait for it or stop it first";
+      return false;
+    }
+    return true;
+  }
+  ~FolderLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+
+ private:
+  int fd_ = -1;
 };
 
 std::string duration_text(double s) {
@@ -66,7 +94,9 @@ std::string duration_text(double s) {
 }
 
 // Starts carril_sim on the variant's scenario in its own process group (a Ctrl-C at the
-// terminal reaches the runner alone, which stops its children itself). -1 with `error` on failure.
+// terminal reaches the runner alone, which stops its children itself). The child dies with the
+// runner (PR_SET_PDEATHSIG): a runner killed with SIGKILL leaves no simulator behind to write
+// into the folders a resumed campaign is using. -1 with `error` on failure.
 pid_t spawn_sim(const RunnerOptions& opt, const fs::path& dir, std::string& error) {
   const std::string scenario = (dir / "scenario.yaml").string();
   const std::string out = (dir / "sim").string();
@@ -76,27 +106,51 @@ pid_t spawn_sim(const RunnerOptions& opt, const fs::path& dir, std::string& erro
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawnattr_t attr;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
-  posix_spawn_file_actions_adddup2(&fa, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawnattr_init(&attr);
-  sigset_t none, all;
-  sigemptyset(&none);
-  sigfillset(&all);
-  posix_spawnattr_setsigmask(&attr, &none);
-  posix_spawnattr_setsigdefault(&attr, &all);
-  posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr,
-                           POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, opt.sim_path.c_str(), &fa, &attr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  posix_spawnattr_destroy(&attr);
-  if (rc != 0) {
-    error = opt.sim_path + ": cannot start: " + std::strerror(rc);
+  const pid_t parent = ::getpid();
+  int report[2];  // the child writes errno here when exec fails; closed on exec
+  if (::pipe2(report, O_CLOEXEC) != 0) {
+    error = opt.sim_path + ": cannot start: " + std::strerror(errno);
+    return -1;
+  }
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    error = opt.sim_path + ": cannot start: " + std::strerror(errno);
+    ::close(report[0]);
+    ::close(report[1]);
+    return -1;
+  }
+  if (pid == 0) {
+    // The child: async-signal-safe calls only until exec.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // the runner died before prctl took effect
+    ::setpgid(0, 0);
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    for (int sig = 1; sig < NSIG; ++sig) ::sigaction(sig, &dfl, nullptr);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0 || ::dup2(fd, STDOUT_FILENO) < 0 || ::dup2(fd, STDERR_FILENO) < 0) {
+      const int err = errno;
+      (void)!::write(report[1], &err, sizeof err);
+      ::_exit(127);
+    }
+    ::execve(opt.sim_path.c_str(), argv.data(), environ);
+    const int err = errno;
+    (void)!::write(report[1], &err, sizeof err);
+    ::_exit(127);
+  }
+  ::close(report[1]);
+  int err = 0;
+  ssize_t n = 0;
+  do {
+    n = ::read(report[0], &err, sizeof err);
+  } while (n < 0 && errno == EINTR);
+  ::close(report[0]);
+  if (n == static_cast<ssize_t>(sizeof err)) {
+    ::waitpid(pid, nullptr, 0);
+    error = opt.sim_path + ": cannot start: " + std::strerror(err);
     return -1;
   }
   return pid;
@@ -189,6 +243,9 @@ RunCounts run_variants(const CampaignSpec& spec, const std::vector<std::uint64_t
                        const RunnerOptions& opt) {
   RunCounts c;
   c.total = indices.size();
+  // Before the statuses are read: what another runner is writing is not this one's to judge.
+  FolderLock lock;
+  if (!lock.take(opt.out_dir, opt.shared_lock, c.error)) return c;
   std::vector<std::uint64_t> pending;
   for (const std::uint64_t i : indices) {
     if (variant_status(opt.out_dir, i).empty()) {

@@ -26,6 +26,8 @@ struct RunnerOptions {
   unsigned jobs = 1;          // simulators at a time
   bool progress = true;       // a progress line on stderr
   bool progress_tty = false;  // redraw it in place (a terminal) or print a line every 5 s
+  bool shared_lock = false;   // a Slurm array task: shares OUT's lock with the other tasks (a
+                              // local run holds it alone, so the two never run side by side)
 };
 
 struct RunCounts {

@@ -205,6 +205,7 @@ int main(int argc, char** argv) {
     opt.jobs = work->parsed() ? 1 : jobs;
     opt.progress = !quiet && !work->parsed();
     opt.progress_tty = ::isatty(STDERR_FILENO) != 0;
+    opt.shared_lock = work->parsed();
     const RunCounts c = run_variants(spec, pending, opt);
     if (!c.error.empty()) {
       std::fprintf(stderr, "carril_campaign: %s\n", c.error.c_str());

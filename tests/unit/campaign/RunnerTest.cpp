@@ -4,8 +4,11 @@
 // stopped and resumes them; another campaign's folder is refused; the CSV has a row per run.
 #include "host_sim/campaign/Runner.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -28,6 +31,7 @@ const std::string kSrc = CARRIL_SOURCE_DIR;
 const char* kFakeSim = R"(#!/bin/bash
 scenario=$2; out=$4
 echo run >> "$FAKE_SIM_COUNT"
+if [ -n "$FAKE_SIM_PIDS" ]; then echo $$ >> "$FAKE_SIM_PIDS"; fi
 seed=$(sed -n 's/^seed: //p' "$scenario")
 mkdir -p "$out"
 printf '{\n  "scenario": "fake",\n  "seed_mod": %d,\n  "counters": {"a": 1}\n}\n' $((seed % 5)) > "$out/summary.json"
@@ -36,7 +40,7 @@ case $((seed % 5)) in
   1) exit 1 ;;
   2) exit 2 ;;
   3) kill -SEGV $$ ;;
-  4) if [ -n "$FAKE_SIM_HANG" ]; then sleep 30; fi; exit 0 ;;
+  4) if [ -n "$FAKE_SIM_HANG" ]; then exec sleep 30; fi; exit 0 ;;
 esac
 )";
 
@@ -54,6 +58,7 @@ class RunnerTest : public ::testing::Test {
     count_ = (dir_ / "count").string();
     ::setenv("FAKE_SIM_COUNT", count_.c_str(), 1);
     ::unsetenv("FAKE_SIM_HANG");
+    ::unsetenv("FAKE_SIM_PIDS");
     const CampaignLoad r = load_campaign_text(text_, kSrc + "/scenarios/campaigns/test.yaml");
     ASSERT_TRUE(r.ok) << r.error;
     spec_ = r.spec;
@@ -163,6 +168,93 @@ TEST_F(RunnerTest, AStoppedCampaignResumesWhatItStopped) {
   EXPECT_EQ(runs_counted(), 12 + hanging);
   for (std::uint64_t i = 0; i < 12; ++i)
     EXPECT_EQ(variant_status(opt_.out_dir, i), expected_status(i));
+}
+
+// Issue 46 item 6: a closed terminal (SIGHUP) stops the campaign as Ctrl-C does, resumable.
+TEST_F(RunnerTest, AHangupStopsTheCampaignLikeCtrlC) {
+  std::string error;
+  ASSERT_TRUE(prepare_campaign_dir(spec_, text_, opt_.out_dir, error)) << error;
+  ::setenv("FAKE_SIM_HANG", "1", 1);
+  opt_.jobs = 12;
+  std::thread stopper([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::raise(SIGHUP);
+  });
+  const RunCounts c = run_variants(spec_, all(), opt_);
+  stopper.join();
+  EXPECT_TRUE(c.interrupted);
+  EXPECT_TRUE(c.error.empty()) << c.error;
+  for (std::uint64_t i = 0; i < 12; ++i) {
+    if (make_variant(spec_, i).seed % 5 == 4) EXPECT_EQ(variant_status(opt_.out_dir, i), "") << i;
+  }
+}
+
+// A second runner on the same folder is refused; a Slurm array's tasks share the folder.
+TEST_F(RunnerTest, ASecondRunnerOnTheSameFolderIsRefused) {
+  std::string error;
+  ASSERT_TRUE(prepare_campaign_dir(spec_, text_, opt_.out_dir, error)) << error;
+  const std::string lock_path = (fs::path(opt_.out_dir) / ".lock").string();
+  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);  // a runner holds the folder
+  RunCounts c = run_variants(spec_, all(), opt_);
+  EXPECT_EQ(c.error, opt_.out_dir + ": another carril_campaign is running on this folder (" +
+                         lock_path + " is locked); wait for it or stop it first");
+  EXPECT_EQ(c.ran, 0u);
+  EXPECT_EQ(runs_counted(), 0);
+  ASSERT_EQ(::flock(fd, LOCK_SH), 0);  // now an array task holds it
+  opt_.shared_lock = true;             // another array task: welcome
+  c = run_variants(spec_, all(), opt_);
+  EXPECT_TRUE(c.error.empty()) << c.error;
+  EXPECT_EQ(c.ran, 12u);
+  opt_.shared_lock = false;  // a local run beside the array: refused
+  EXPECT_FALSE(run_variants(spec_, all(), opt_).error.empty());
+  ::close(fd);
+}
+
+// A runner killed with SIGKILL takes its simulators with it: none is left to write into the
+// folders a resumed campaign uses.
+TEST_F(RunnerTest, AKilledRunnerLeavesNoSimulatorBehind) {
+  std::string error;
+  ASSERT_TRUE(prepare_campaign_dir(spec_, text_, opt_.out_dir, error)) << error;
+  const std::string pids = (dir_ / "pids").string();
+  ::setenv("FAKE_SIM_PIDS", pids.c_str(), 1);
+  ::setenv("FAKE_SIM_HANG", "1", 1);
+  opt_.jobs = 12;
+  const pid_t runner = ::fork();
+  ASSERT_GE(runner, 0);
+  if (runner == 0) {
+    run_variants(spec_, all(), opt_);
+    ::_exit(0);
+  }
+  auto started = [&] {
+    std::ifstream in(pids);
+    std::vector<pid_t> v;
+    for (pid_t p = 0; in >> p;) v.push_back(p);
+    return v;
+  };
+  for (int k = 0; k < 500 && started().size() < 12; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const std::vector<pid_t> sims = started();
+  ASSERT_EQ(sims.size(), 12u);
+  ::kill(runner, SIGKILL);
+  ::waitpid(runner, nullptr, 0);
+  // Gone, or a zombie waiting for init: either way it runs no more.
+  auto running = [](pid_t p) {
+    std::ifstream stat("/proc/" + std::to_string(p) + "/stat");
+    std::string pid, comm, state;
+    if (!(stat >> pid >> comm >> state)) return false;
+    return state != "Z" && state != "X";
+  };
+  int alive = 0;
+  for (int k = 0; k < 200; ++k) {
+    alive = 0;
+    for (const pid_t p : sims) alive += running(p);
+    if (alive == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(alive, 0) << "simulators still running after their runner was killed";
 }
 
 TEST_F(RunnerTest, AnotherCampaignsFolderIsRefused) {
