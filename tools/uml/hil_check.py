@@ -41,6 +41,14 @@ def summary(name):
         sys.exit(1)
 
 
+# Each phase of hil_inside.sh has its own bound: one that ran over is named first.
+try:
+    for line in open(f"{out}/exits"):
+        if line.startswith("phase_timeout "):
+            check(False, "phase ran over: " + line[len("phase_timeout "):].strip())
+except OSError as e:
+    check(False, f"hil_inside.sh left no exits file: {e}")
+
 # Run A.
 a = summary("a")
 fa = candump(f"{out}/a.candump")
@@ -142,6 +150,24 @@ print(f"run B: drives that saw the controller's heartbeat lost: {sum(lost)} of {
 check(all(lost), "run B: every drive saw the controller's heartbeat lost")
 check(0.0 <= stop_s <= 0.5, "run B: the drives stopped on their own (within 0.5 s of noticing)")
 check(all(abs(d["wheel_radps"]) < 0.01 for d in b["drives"]), "run B: every wheel at rest at the end")
+
+# Run C: every catchable stopping signal ends in a quick stop to each drive, then NMT stop.
+for sig in ("INT", "TERM", "HUP"):
+    try:
+        frames = candump(f"{out}/c_{sig}.ctl.canlog")
+        report = open(f"{out}/c_{sig}.ctl.txt").read()
+    except OSError as e:
+        check(False, f"run C: SIG{sig}: {e}")
+        continue
+    nmt_stop = [k for k, f in enumerate(frames) if f[1] == 0x000 and f[2][:1] == b"\x02"]
+    last = nmt_stop[-1] if nmt_stop else len(frames)
+    quick = {f[1] - 0x200 for f in frames[max(0, last - 40):last]
+             if 0x201 <= f[1] <= 0x204 and f[2][:2] == b"\x02\x00"}
+    print(f"run C: SIG{sig}: {len(frames)} frames logged; quick stop to nodes {sorted(quick)} "
+          f"before NMT stop: {bool(nmt_stop)}")
+    check(f"stopped by a signal (SIG{sig})" in report, f"run C: SIG{sig}: the report names it")
+    check(quick == {1, 2, 3, 4} and bool(nmt_stop),
+          f"run C: SIG{sig}: quick stop to all 4 drives, then NMT stop, on the bus")
 
 print(f"hil_check: {len(failures)} failed")
 sys.exit(1 if failures else 0)

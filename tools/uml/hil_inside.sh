@@ -5,7 +5,10 @@
 #          (--inject); candump captures vcan0 from 6 s before the silence to the end.
 #   run B: the controller is killed with SIGKILL while the robot drives; both write --can-log
 #          (the controller's stays FILE.part: it was killed before it could complete it).
+#   run C: SIGINT, SIGTERM and SIGHUP, one controller each, with --can-log.
 # Every syscall traps to the host under user-mode-linux, so the capture is a window, not the run.
+# Each phase has its own bound (bounded_wait); one that runs over is named in OUT_DIR/exits and
+# hil_check.py reports it.
 # Usage: hil_inside.sh SIM CONTROLLER SOURCE_DIR OUT_DIR LAP_S
 set -uo pipefail
 sim=$1 ctl=$2 src=$3 out=$4 lap_s=${5:-45}
@@ -25,6 +28,27 @@ wait_for() {
   return 1
 }
 
+# Waits for PID at most S seconds. Past that the phase ran over: it is named in exits and on
+# stderr, and the process is stopped (SIGTERM, then SIGKILL), so one stuck phase cannot eat the
+# whole guest's time limit and leave the rest unreported. Returns PID's status (124: ran over).
+bounded_wait() {
+  local pid=$1 s=$2 phase=$3
+  for ((i = 0; i < s * 10; i++)); do
+    if ! kill -0 "$pid" 2>/dev/null; then
+      wait "$pid"
+      return $?
+    fi
+    sleep 0.1
+  done
+  echo "phase_timeout $phase: over its $s s" >>"$out/exits"
+  echo "hil_inside: phase '$phase' ran over its $s s" >&2
+  kill -TERM "$pid" 2>/dev/null
+  sleep 2
+  kill -KILL "$pid" 2>/dev/null
+  wait "$pid" 2>/dev/null
+  return 124
+}
+
 # Starts the simulator for run NAME (DURATION s, more options after) and waits for its banner.
 start_sim() {
   local name=$1 duration=$2
@@ -33,7 +57,10 @@ start_sim() {
     --out "$out/$name" --duration "$duration" "$@" >"$out/$name.sim.txt" 2>&1 &
   simpid=$!
   sim_t0=$(date +%s.%N)
-  wait_for "$out/$name.sim.txt" 'carril_sim: HIL:' 30 || echo "hil_inside: $name: no HIL banner" >&2
+  if ! wait_for "$out/$name.sim.txt" 'carril_sim: HIL:' 30; then
+    echo "phase_timeout $name: simulator banner: over its 30 s" >>"$out/exits"
+    echo "hil_inside: $name: no HIL banner within 30 s" >&2
+  fi
 }
 
 # Run A.
@@ -43,9 +70,12 @@ ctlpid=$!
 sleep "$(awk -v t0="$sim_t0" -v l="$lap_s" -v now="$(date +%s.%N)" 'BEGIN { s = t0 + l - 6 - now; print (s > 0 ? s : 0) }')"
 candump -L vcan0 >"$out/a.candump" &
 dump=$!
-wait "$simpid"; echo "sim_a_exit $?" >>"$out/exits"
+bounded_wait "$simpid" "$((lap_s + 8 + 60))" "a: simulator run (lap, heartbeat silence)"
+echo "sim_a_exit $?" >>"$out/exits"
 kill "$dump" 2>/dev/null; wait "$dump" 2>/dev/null
-kill -INT "$ctlpid" 2>/dev/null; wait "$ctlpid"; echo "ctl_a_exit $?" >>"$out/exits"
+kill -INT "$ctlpid" 2>/dev/null
+bounded_wait "$ctlpid" 20 "a: controller report after SIGINT"
+echo "ctl_a_exit $?" >>"$out/exits"
 
 # Run B: the controller dies (SIGKILL) while the robot follows the tape.
 start_sim b 30 --can-log "$out/b.sim.canlog"
@@ -56,7 +86,35 @@ if wait_for "$out/b.ctl.txt" 'FOLLOW/track' 25; then
   sleep 4
   kill -KILL "$ctlpid"
   echo "killed_b" >>"$out/exits"
+  bounded_wait "$ctlpid" 10 "b: controller gone after SIGKILL"
+else
+  echo "phase_timeout b: controller reaches FOLLOW/track: over its 25 s" >>"$out/exits"
+  echo "hil_inside: b: the controller did not reach FOLLOW/track within 25 s" >&2
+  kill -INT "$ctlpid" 2>/dev/null
+  bounded_wait "$ctlpid" 20 "b: controller report after SIGINT"
 fi
-wait "$ctlpid" 2>/dev/null; echo "ctl_b_exit $?" >>"$out/exits"
-wait "$simpid"; echo "sim_b_exit $?" >>"$out/exits"
+echo "ctl_b_exit $?" >>"$out/exits"
+bounded_wait "$simpid" 90 "b: simulator run"
+echo "sim_b_exit $?" >>"$out/exits"
+
+# Run C: each catchable stopping signal to a controller driving the emulated drives (issue 46
+# item 6); its --can-log shows what it sent last: quick stop to every drive, then NMT stop.
+start_sim c 60
+for sig in INT TERM HUP; do
+  "$ctl" --robot "$robot" --controller "$controller" --mission "$mission" \
+    --can-log "$out/c_$sig.ctl.canlog" >"$out/c_$sig.ctl.txt" 2>&1 &
+  ctlpid=$!
+  if wait_for "$out/c_$sig.ctl.txt" 'running until' 25; then
+    sleep 1
+    kill -"$sig" "$ctlpid"
+    bounded_wait "$ctlpid" 20 "c: controller stops on SIG$sig"
+    echo "ctl_c_${sig}_exit $?" >>"$out/exits"
+  else
+    echo "phase_timeout c: controller up for SIG$sig: over its 25 s" >>"$out/exits"
+    kill -KILL "$ctlpid" 2>/dev/null
+    wait "$ctlpid" 2>/dev/null
+  fi
+done
+kill -INT "$simpid" 2>/dev/null
+bounded_wait "$simpid" 30 "c: simulator stops"
 exit 0

@@ -2,13 +2,21 @@
 # The hardware-in-the-loop test (issue 9 item 8): boots user-mode-linux with vcan0, runs
 # carril_sim --hil and carril_controller there (tools/uml/hil_inside.sh), then checks the capture
 # (tools/uml/hil_check.py). Exit 77 (skip) only when user-mode-linux cannot start at all.
-# Usage: hil_test.sh SIM CONTROLLER [LAP_S]
+# Usage: [CARRIL_HIL_LOAD=N] hil_test.sh SIM CONTROLLER [LAP_S]
 set -uo pipefail
 sim=$1 ctl=$2 lap_s=${3:-45}
 here=$(cd "$(dirname "$0")" && pwd)
 src=$(cd "$here/../.." && pwd)
 out=$(mktemp -d "${TMPDIR:-/tmp}/carril_hil.XXXXXX")
-trap 'rm -rf "$out"' EXIT
+# CARRIL_HIL_LOAD=N: N busy processes load the host's cores for the whole run (issue 46 item 10:
+# the HIL tests must pass on a loaded machine). They die with this script.
+load_pids=()
+for ((k = 0; k < ${CARRIL_HIL_LOAD:-0}; k++)); do
+  bash -c 'while :; do :; done' &
+  load_pids+=($!)
+done
+[ ${#load_pids[@]} -gt 0 ] && echo "hil_test: ${#load_pids[@]} busy processes load the host"
+trap 'kill "${load_pids[@]}" 2>/dev/null; rm -rf "$out"' EXIT
 bash "$here/uml_run.sh" --vcan 1 --timeout 300 -- bash "$here/hil_inside.sh" "$sim" "$ctl" "$src" \
   "$out" "$lap_s"
 rc=$?
