@@ -1,6 +1,7 @@
 #include "loader/MissionLoader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <initializer_list>
@@ -136,6 +137,42 @@ void parse_waypoints(const Node& m, const RobotSpec& robot, const MissionSchema&
   parse_map_keys(m, schema, mission);
 }
 
+// A coverage area must be a simple polygon with an area: crossing edges leave its inside
+// undefined (the lanes would be cut by whichever rule the planner happens to use).
+void check_simple_polygon(const Node& n, const std::vector<GoalSpec>& p) {
+  const std::size_t k = p.size();
+  auto cross = [](const GoalSpec& o, const GoalSpec& a, const GoalSpec& b) {
+    return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
+  };
+  double twice_area = 0.0;
+  for (std::size_t i = 0; i < k; ++i) {
+    const GoalSpec &a = p[i], &b = p[(i + 1) % k];
+    twice_area += a.x_m * b.y_m - b.x_m * a.y_m;
+    for (std::size_t j = i + 1; j < k; ++j) {
+      if (j == i || (j + 1) % k == i || (i + 1) % k == j)
+        continue;  // adjacent edges share a corner
+      const GoalSpec &c = p[j], &d = p[(j + 1) % k];
+      const double d1 = cross(c, d, a), d2 = cross(c, d, b), d3 = cross(a, b, c),
+                   d4 = cross(a, b, d);
+      const bool proper = ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 &&
+                          d3 != 0 && d4 != 0;
+      const auto on = [](const GoalSpec& s0, const GoalSpec& s1, const GoalSpec& q, double side) {
+        return side == 0 && std::min(s0.x_m, s1.x_m) <= q.x_m && q.x_m <= std::max(s0.x_m, s1.x_m) &&
+               std::min(s0.y_m, s1.y_m) <= q.y_m && q.y_m <= std::max(s0.y_m, s1.y_m);
+      };
+      if (proper || on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4)) {
+        n.expected("the corners of a simple polygon (edges that do not cross or touch)",
+                   "edge " + std::to_string(i + 1) + "-" + std::to_string((i + 1) % k + 1) +
+                       " meeting edge " + std::to_string(j + 1) + "-" +
+                       std::to_string((j + 1) % k + 1));
+      }
+    }
+  }
+  if (std::fabs(twice_area) < 1e-6) {
+    n.expected("the corners of a polygon with an area", "corners on one line");
+  }
+}
+
 // coverage: the mode, the tool, the area and a time limit.
 void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& schema,
                     MissionSpec& mission) {
@@ -148,7 +185,10 @@ void parse_coverage(const Node& m, const RobotSpec& robot, const MissionSchema& 
     mission.wall_clearance_m = n->number(Range::closed(0.0, 1.0));
   }
   if (auto n = m.get("max_time_s")) mission.max_time_s = n->number(Range::closed(1.0, 86400.0));
-  if (auto a = m.get("area")) mission.area = parse_points(*a, 3, 16, "corners");
+  if (auto a = m.get("area")) {
+    mission.area = parse_points(*a, 3, 16, "corners");
+    check_simple_polygon(*a, mission.area);
+  }
   if (auto n = m.get("lane_overlap")) mission.lane_overlap = n->number(Range::closed(0.0, 0.5));
   parse_speed(m, robot, schema, mission);
   // Transits cross floor already swept (or to be swept): up to the robot's top speed.
@@ -214,7 +254,7 @@ Rgb parse_color(const Node& n, std::string* name_out) {
 
 void parse_localisation_start(const Node& m, std::initializer_list<const char*> extra_keys,
                               LocalisationStartSpec& out) {
-  std::vector<std::string> keys{"initial_pose", "global", "initial_sigma_xy_m",
+  std::vector<std::string> keys{"initial_pose",          "global",   "initial_sigma_xy_m",
                                 "initial_sigma_yaw_deg", "recovery", "max_unlocalised_s"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   m.expect_map(keys);

@@ -288,13 +288,16 @@ bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
 // The robot standing on the goal would touch something the 2D lidar has seen: a lethal obstacle
 // cell within the footprint's circumscribed radius of the goal.
 bool GotoMission::goal_in_obstacle(int gx, int gy) const {
-  const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
+  // What a body on the goal could touch: the lidar's returns and the static map's walls.
   const double radius = footprint_.circumscribed_m();
-  const int r = static_cast<int>(std::ceil(radius / o.resolution()));
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if (std::hypot(dx, dy) * o.resolution() > radius) continue;
-      if (o.contains(gx + dx, gy + dy) && o.at(gx + dx, gy + dy) == cost::kLethal) return true;
+  for (const RollingGrid<std::uint8_t>* g : {&costmap_.obstacles(), costmap_.walls()}) {
+    if (g == nullptr || !g->ready()) continue;
+    const int r = static_cast<int>(std::ceil(radius / g->resolution()));
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        if (std::hypot(dx, dy) * g->resolution() > radius) continue;
+        if (g->contains(gx + dx, gy + dy) && g->at(gx + dx, gy + dy) == cost::kLethal) return true;
+      }
     }
   }
   return false;
@@ -319,6 +322,9 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
         const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
         const int cx = m.origin_cx() + x, cy = m.origin_cy() + y;
         if (o.contains(cx, cy) && o.at(cx, cy) == cost::kLethal) continue;
+        // Nor is a wall of the static map ever cleared.
+        const RollingGrid<std::uint8_t>* w = costmap_.walls();
+        if (w != nullptr && w->contains(cx, cy) && w->at(cx, cy) == cost::kLethal) continue;
         std::uint8_t& c = plan_costs_[std::size_t(y) * std::size_t(m.nx()) + std::size_t(x)];
         if (!cost::passable(c)) c = cost::kMaxGraded;
       }

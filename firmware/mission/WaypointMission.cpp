@@ -221,18 +221,20 @@ MissionOutput WaypointMission::unreachable(const MissionContext& ctx, const Pose
 // the reach radius (the target's own cell always counts): the robot cannot come within
 // reach_radius_m of the target without touching it.
 bool WaypointMission::target_in_obstacle() const {
-  const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
-  if (!o.ready()) return false;
   const Vec2& t = cfg_.targets[target_];
-  int tx = 0, ty = 0;
-  if (!o.world_to_cell(t.x(), t.y(), tx, ty)) return false;  // not seen yet
   const double circumscribed = footprint_.circumscribed_m();
   const double radius = std::fmax(0.0, circumscribed - cfg_.reach_radius_m);
-  const int r = static_cast<int>(std::ceil(radius / o.resolution()));
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if (std::hypot(dx, dy) * o.resolution() > radius && (dx != 0 || dy != 0)) continue;
-      if (o.contains(tx + dx, ty + dy) && o.at(tx + dx, ty + dy) == cost::kLethal) return true;
+  // The lidar's returns, and on a map its walls, whether seen yet or not.
+  for (const RollingGrid<std::uint8_t>* o : {&costmap_.obstacles(), costmap_.walls()}) {
+    if (o == nullptr || !o->ready()) continue;
+    int tx = 0, ty = 0;
+    if (!o->world_to_cell(t.x(), t.y(), tx, ty)) continue;  // not in this window yet
+    const int r = static_cast<int>(std::ceil(radius / o->resolution()));
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        if (std::hypot(dx, dy) * o->resolution() > radius && (dx != 0 || dy != 0)) continue;
+        if (o->contains(tx + dx, ty + dy) && o->at(tx + dx, ty + dy) == cost::kLethal) return true;
+      }
     }
   }
   return false;

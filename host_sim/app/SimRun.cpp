@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "firmware/app/EventFormat.hpp"
 #include "host_sim/alloc/AllocCounter.hpp"
@@ -154,7 +155,9 @@ bool SimRun::step() {
     result_ = "goal_reached";
   } else if (!faulted && ms.status == fw::MissionStatus::Done &&
              scenario_.mission.type == "coverage") {
-    result_ = "coverage_done";
+    // Stopped by its own max_time_s is not done: the label says so.
+    const bool timed_out = ms.phase != nullptr && std::strcmp(ms.phase, "time_limit") == 0;
+    result_ = timed_out ? "coverage_time_limit" : "coverage_done";
   } else if (!faulted && ms.status == fw::MissionStatus::Done &&
              scenario_.mission.type == "waypoints") {
     result_ = "course_done";  // every lap driven to its last target

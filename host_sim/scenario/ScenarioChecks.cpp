@@ -86,20 +86,18 @@ std::string rgb_text(Rgb c) {
 
 }  // namespace
 
-// The robot must not start inside an obstacle or a wall (as SimWorld builds them: each wall
-// segment a box of its length plus the thickness, thickness wide).
-void check_start_clear(const Node& root, const Scenario& s) {
+// A pose the robot is put at (its start, a kidnap) must not be inside an obstacle or a wall (as
+// SimWorld builds them: each wall segment a box of its length plus the thickness, thickness
+// wide). `kind` names it in the message ("start", "kidnap").
+void check_pose_clear(const Scenario& s, double x, double y, double yaw_rad, const Node& where,
+                      const std::string& kind) {
   const RobotSpec& r = s.robot;
-  const Obb robot{{r.start.x, r.start.y}, r.start.yaw_rad, r.length_m / 2, r.width_m / 2};
-  const Node robot_n = root.at("robot");
-  const auto start = robot_n.get("start");
-  const Node where = start ? *start : robot_n.child_path("start");
-  const std::string what = "a start pose whose " + r.preset + " footprint (" +
+  const Obb robot{{x, y}, yaw_rad, r.length_m / 2, r.width_m / 2};
+  const std::string what = "a " + kind + " pose whose " + r.preset + " footprint (" +
                            strict::format_number(r.length_m) + " x " +
                            strict::format_number(r.width_m) + " m) is clear of ";
-  const std::string got = "x " + strict::format_number(r.start.x) + ", y " +
-                          strict::format_number(r.start.y) + ", yaw_deg " +
-                          strict::format_number(r.start.yaw_rad * 180.0 / std::numbers::pi);
+  const std::string got = "x " + strict::format_number(x) + ", y " + strict::format_number(y) +
+                          ", yaw_deg " + strict::format_number(yaw_rad * 180.0 / std::numbers::pi);
   for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
     const ObstacleSpec& o = s.obstacles[i];
     const bool hit = o.shape == ObstacleShape::Box
@@ -126,6 +124,24 @@ void check_start_clear(const Node& root, const Scenario& s) {
     }
   }
   if (s.map) check_start_clear_of_map(robot, *s.map, where, what + "the map's occupied cells", got);
+}
+
+void check_start_clear(const Node& root, const Scenario& s) {
+  const RobotSpec& r = s.robot;
+  const Node robot_n = root.at("robot");
+  const auto start = robot_n.get("start");
+  const Node where = start ? *start : robot_n.child_path("start");
+  check_pose_clear(s, r.start.x, r.start.y, r.start.yaw_rad, where, "start");
+  // Where a kidnap sets the robot down is checked as its start is.
+  if (auto loc = root.get("localisation")) {
+    if (auto k = loc->get("kidnap")) {
+      const auto items = k->items();
+      for (std::size_t i = 0; i < items.size() && i < s.localisation.kidnaps.size(); ++i) {
+        const auto& to = s.localisation.kidnaps[i].to;
+        check_pose_clear(s, to.x, to.y, to.yaw_rad, items[i], "kidnap");
+      }
+    }
+  }
 }
 
 // The detector must tell the tape and the end mark from the floor, and from each other.

@@ -48,6 +48,17 @@ TEST(ScenarioEndToEndTest, FirmwareSyncsTheDrivesOncePerPeriod) {
   EXPECT_EQ(run.topology().drives.syncs(), 250U);
 }
 
+// Issue 46 item 8: a coverage mission stopped by its own max_time_s is not "done".
+TEST(ScenarioEndToEndTest, ACoverageMissionOnItsTimeLimitSaysSo) {
+  Scenario s = test::load_repo_scenario("coverage_house");
+  s.mission.max_time_s = 5.0;  // the house needs minutes
+  s.duration_s = 30.0;
+  SimRun run(s, s.seed);
+  const RunSummary r = run_to_end(run);
+  EXPECT_EQ(r.result, "coverage_time_limit");
+  EXPECT_FALSE(r.passed);
+}
+
 TEST(ScenarioEndToEndTest, UnmetExpectationFailsTheRun) {
   Scenario s = test::load_repo_scenario("circle");
   s.duration_s = 10.0;  // a lap needs about 38 s

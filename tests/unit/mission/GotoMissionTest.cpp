@@ -48,6 +48,24 @@ class TestCostmap final : public CostmapView {
     }
     ++updates_;
   }
+  const RollingGrid<std::uint8_t>* walls() const override {
+    return walls_.ready() ? &walls_ : nullptr;
+  }
+  // A wall of the static map, lethal in master and in walls() but never seen by the lidar (a
+  // goal placed inside or beside a mapped wall the robot has not looked at yet).
+  void mapped_wall(double x0, double y0, double x1, double y1) {
+    if (!walls_.ready()) {
+      walls_.init(120, 120, 0.05, cost::kFree);
+      walls_.recenter(0.0, 0.0);
+    }
+    wall(x0, y0, x1, y1);
+    for (int cy = walls_.origin_cy(); cy < walls_.origin_cy() + walls_.ny(); ++cy) {
+      for (int cx = walls_.origin_cx(); cx < walls_.origin_cx() + walls_.nx(); ++cx) {
+        const double x = walls_.center_of(cx), y = walls_.center_of(cy);
+        if (x >= x0 && x <= x1 && y >= y0 && y <= y1) walls_.at(cx, cy) = cost::kLethal;
+      }
+    }
+  }
   void touch() { ++updates_; }
   // One lethal cell at (x, y) [m] with no inflation round it: a master that has not caught up
   // with an obstacle yet (the next rebuild inflates it).
@@ -61,7 +79,7 @@ class TestCostmap final : public CostmapView {
   }
 
  private:
-  RollingGrid<std::uint8_t> master_, obstacles_;
+  RollingGrid<std::uint8_t> master_, obstacles_, walls_;
   std::uint32_t updates_ = 0;
 };
 
@@ -329,6 +347,27 @@ TEST(GotoMissionTest, GoalOnAnObstacleOrOutsideTheCostmapIsInvalid) {
   Rig outside(Pose2{10.0, 0.0, 0.0});  // the window is 6 x 6 m round the origin
   outside.start();
   EXPECT_EQ(outside.run(2.0).fault, Fault::GoalInvalid);
+}
+
+// Issue 46 item 8: a goal in a mapped wall, or where the body on it would touch one, is refused
+// at once and the robot does not move, though the lidar has not seen that wall: the planner
+// never clears the static map's walls round a goal.
+TEST(GotoMissionTest, AGoalInOrBesideAMappedWallIsInvalidAtOnceAndTheRobotStaysPut) {
+  for (const double x0 : {1.3, 1.75}) {  // the goal (1.5, 0) inside the wall, then 0.25 m off it
+    Rig r(Pose2{1.5, 0.0, 0.0});
+    r.costmap.mapped_wall(x0, -0.3, x0 + 0.4, 0.3);
+    r.start();
+    const MissionOutput out = r.run(3.0);
+    EXPECT_EQ(out.fault, Fault::GoalInvalid) << x0;
+    EXPECT_EQ(r.mission->state().status, MissionStatus::Failed) << x0;
+    EXPECT_LT(std::hypot(r.pose.x, r.pose.y), 0.01) << x0;
+  }
+  // Well clear of it (the footprint's circumscribed radius is 0.35 m): planned and reached.
+  Rig clear(Pose2{1.5, 0.0, 0.0});
+  clear.costmap.mapped_wall(2.0, -0.3, 2.4, 0.3);
+  clear.start();
+  clear.run(20.0);
+  EXPECT_EQ(clear.mission->state().status, MissionStatus::Done);
 }
 
 // VFF beside a wall: the wall's push turns the robot's heading off the path, toward lethal cells

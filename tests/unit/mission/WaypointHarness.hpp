@@ -36,7 +36,26 @@ class CourseCostmap final : public CostmapView {
   const RollingGrid<std::uint8_t>& master() const override { return master_; }
   const RollingGrid<std::uint8_t>& obstacles() const override { return obstacles_; }
   std::uint32_t updates() const override { return updates_; }
+  const RollingGrid<std::uint8_t>* walls() const override {
+    return walls_.ready() ? &walls_ : nullptr;
+  }
   void touch() { ++updates_; }
+
+  // A post that is a wall of the static map: lethal in master and walls(), unseen by the lidar.
+  void mapped_post(double px, double py, double r = kPostRadius) {
+    if (!walls_.ready()) {
+      walls_.init(master_.nx(), master_.ny(), 0.05, cost::kFree);
+      walls_.move_origin(master_.origin_cx(), master_.origin_cy());
+    }
+    post(px, py, false, r);
+    for (int cy = walls_.origin_cy(); cy < walls_.origin_cy() + walls_.ny(); ++cy) {
+      for (int cx = walls_.origin_cx(); cx < walls_.origin_cx() + walls_.nx(); ++cx) {
+        if (std::hypot(walls_.center_of(cx) - px, walls_.center_of(cy) - py) <= r) {
+          walls_.at(cx, cy) = cost::kLethal;
+        }
+      }
+    }
+  }
 
   // A round post of radius r at (x, y) [m]. seen_by_lidar: lethal in the lidar layer too.
   void post(double px, double py, bool seen_by_lidar = true, double r = kPostRadius) {
@@ -103,7 +122,7 @@ class CourseCostmap final : public CostmapView {
   }
 
  private:
-  RollingGrid<std::uint8_t> master_, obstacles_;
+  RollingGrid<std::uint8_t> master_, obstacles_, walls_;
   std::vector<Vec2> posts_;
   std::uint32_t updates_ = 0;
 };

@@ -121,6 +121,20 @@ TEST(WaypointMissionTest, TargetInAnObstacleSeenByTheLidarIsGoalInvalid) {
   EXPECT_EQ(out.motion.twist.wz, 0.0);
 }
 
+// Issue 46 item 8: a target inside a wall of the static map is goal_invalid at once, before the
+// lidar has seen it, and the robot does not drive at it.
+TEST(WaypointMissionTest, TargetInAMappedWallIsGoalInvalidAtOnce) {
+  Course c;
+  c.costmap.mapped_post(4.0, 1.2);
+  c.cfg.targets[0] = Vec2(4.0, 1.2);
+  c.start();
+  const MissionOutput out = c.run(20.0);
+  EXPECT_EQ(out.fault, Fault::GoalInvalid);
+  EXPECT_STREQ(c.mission->state().phase, "goal_invalid");
+  EXPECT_EQ(c.mission->targets_reached(), 0u);
+  EXPECT_LT(c.t_s(), 1.0);
+}
+
 // A target inside a post the lidar has not seen (only the map has it): the pull drives the robot
 // at it, the emergency stop holds it short, no progress: no_path ("stuck") within stuck_time_s
 // of the last progress, long before the target timeout. The centre never on a lethal cell.

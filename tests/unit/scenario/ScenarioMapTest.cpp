@@ -127,6 +127,25 @@ TEST(ScenarioMap, MapMustBeAFileName) {
       << r.error;
 }
 
+// Issue 46 item 8: where a kidnap puts the robot down is checked as its start is.
+TEST(ScenarioMap, AKidnapPoseMustBeClearAsAStartIs) {
+  const fs::path dir = fresh_dir();
+  const std::string yaml =
+      test::edit(kMinimalYaml, "robot: {preset: pioneer3at}",
+                 "robot: {preset: pioneer3at, start: {x: 0.3, y: -0.5, yaw_deg: 0}}") +
+      "map: maps/room.yaml\nlocalisation:\n  kidnap:\n    - {t_s: 5, x: 0.3, y: -1.1, yaw_deg: "
+      "0}\n";
+  const LoadResult ok = load_with_map(dir, yaml);
+  EXPECT_TRUE(ok.ok) << ok.error;
+  const LoadResult r = load_with_map(dir, test::edit(yaml, "y: -1.1", "y: -1.2"));
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find(":10: localisation.kidnap[0]: expected a kidnap pose whose pioneer3at "
+                         "footprint (0.508 x 0.497 m) is clear of the map's occupied cells, got "
+                         "x 0.3, y -1.2, yaw_deg 0"),
+            std::string::npos)
+      << r.error;
+}
+
 TEST(ScenarioMap, StartMustBeClearOfOccupiedCells) {
   // The wall is the bottom row, y -1.5..-1.4. A Pioneer 3-AT (0.508 x 0.497 m) at y -1.1 reaches
   // down to -1.3485: clear; at y -1.2 down to -1.4485: on the wall.

@@ -132,6 +132,18 @@ TEST(ScenarioMissionsOnMap, BadMissionKeysAreNamed) {
   EXPECT_TRUE(
       fails_naming(load_in_scenarios(kHead + "mission: {type: coverage, area: [[0, 0], [1, 1]]}\n"),
                    {"area", "3 to 16 corners"}));
+  // Issue 46 item 8: a bow tie (edges crossing) or corners on one line have no inside to cover.
+  EXPECT_TRUE(fails_naming(
+      load_in_scenarios(kHead +
+                        "mission: {type: coverage, area: [[0, 0], [2, 2], [2, 0], [0, 2]]}\n"),
+      {"area: expected the corners of a simple polygon", "edge 1-2 meeting edge 3-4"}));
+  EXPECT_TRUE(fails_naming(
+      load_in_scenarios(kHead + "mission: {type: coverage, area: [[0, 0], [1, 1], [2, 2]]}\n"),
+      {"area: expected the corners of a polygon with an area", "corners on one line"}));
+  // A concave one is fine.
+  EXPECT_TRUE(load_in_scenarios(kHead + "mission: {type: coverage, area: [[-1, -1], [1, -1], "
+                                        "[1, 1], [0, 0], [-1, 1]]}\n")
+                  .ok);
   // The transits may go as fast as the robot (pioneer3at: 0.7 m/s), no faster.
   EXPECT_TRUE(
       fails_naming(load_in_scenarios(kHead + "mission: {type: coverage, transit_speed_mps: 0.8}\n"),
