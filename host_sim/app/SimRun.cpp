@@ -244,6 +244,7 @@ RunSummary SimRun::summary(double wall_time_s) {
   r.tick_compute_max_us = tel.tick_max_us;
   r.heap_allocations_after_init = long(allocations_in_ticks());
   r.collisions = metrics_.collisions();
+  r.mover_contacts = topo_.world.mover_contacts();
   r.falls = metrics_.falls();
   r.progress = metrics_.progress();
   r.laps = metrics_.laps();

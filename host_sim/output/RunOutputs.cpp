@@ -68,6 +68,7 @@ std::string summary_to_json(const RunSummary& s) {
   w.num("tick_compute_max_us", s.tick_compute_max_us);
   w.integer("heap_allocations_after_init", s.heap_allocations_after_init);
   w.integer("collisions", s.collisions);
+  w.integer("mover_contacts", s.mover_contacts);
   w.num("progress", s.progress);
   w.integer("laps", s.laps);
   w.num("cross_track_rms_m", s.cross_track_rms_m);

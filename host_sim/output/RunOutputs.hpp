@@ -36,7 +36,8 @@ struct RunSummary {
   long tick_overruns = 0;
   double tick_compute_p50_us = 0.0, tick_compute_p99_us = 0.0, tick_compute_max_us = 0.0;
   long heap_allocations_after_init = 0;
-  int collisions = 0;
+  int collisions = 0;      // contacts while the robot was moving (movers included)
+  int mover_contacts = 0;  // contacts a mover made with the robot standing still
   double progress = 0.0;
   int laps = 0;
   double cross_track_rms_m = 0.0, cross_track_max_m = 0.0;

@@ -61,6 +61,18 @@ struct ObstacleSpec {
   double height_m = 1.0;  // top above the ground under its centre [m] (the 3D lidar sees it)
 };
 
+// Something that moves on its own (a person crossing the tape, a forklift in an aisle, another
+// robot): a disc or a box that walks a polyline at a constant speed from start_s on, then stands
+// at its end. Seen by the lidar and the physics as any obstacle; it pushes what it meets.
+struct MoverSpec {
+  ObstacleShape shape = ObstacleShape::Cylinder;
+  double radius_m = 0.25;                 // cylinder [m]
+  double size_x_m = 1.0, size_y_m = 1.0;  // box, full lengths, x along its path [m]
+  std::vector<Vec2> path;                 // at least 2 points [m]
+  double speed_mps = 1.0;                 // along the path [m/s]
+  double start_s = 0.0;                   // when it sets off [s]
+};
+
 struct WallSpec {
   std::vector<Vec2> points;  // polyline, at least 2 points
   double thickness_m = 0.1;
@@ -189,6 +201,7 @@ struct Scenario {
   std::vector<LineSpec> lines;
   std::vector<MarkSpec> marks;
   std::vector<ObstacleSpec> obstacles;
+  std::vector<MoverSpec> movers;
   std::vector<WallSpec> walls;
   std::vector<TerrainSpec> terrain;
   // Occupancy map (`map:`, docs/map-formats.md): its occupied cells are walls in the simulator,

@@ -239,6 +239,33 @@ ObstacleSpec parse_obstacle(const Node& m) {
   return o;
 }
 
+MoverSpec parse_mover(const Node& m) {
+  MoverSpec o;
+  const std::string shape = m.at("shape").one_of({"box", "cylinder"});
+  if (shape == "box") {
+    m.expect_map({"shape", "size_m", "path", "speed_mps", "start_s"});
+    o.shape = ObstacleShape::Box;
+    const Node size = m.at("size_m");
+    const auto sz = size.items();
+    if (sz.size() != 2) {
+      size.expected("[size_x, size_y] (2 numbers)", "a list of " + std::to_string(sz.size()));
+    }
+    o.size_x_m = sz[0].number(Range::closed(0.05, 20.0));
+    o.size_y_m = sz[1].number(Range::closed(0.05, 20.0));
+  } else {
+    m.expect_map({"shape", "radius_m", "path", "speed_mps", "start_s"});
+    o.shape = ObstacleShape::Cylinder;
+    o.radius_m = m.at("radius_m").number(Range::closed(0.05, 5.0));
+  }
+  std::size_t budget = 64;
+  o.path = parse_points(m.at("path"), budget, "at most 64 points in a mover's path");
+  if (o.path.size() < 2) m.at("path").expected("a path of at least 2 points [x, y]", "1 point");
+  // A person walks at up to about 2 m/s, a forklift drives at up to about 5.
+  o.speed_mps = m.at("speed_mps").number(Range::closed(0.05, 5.0));
+  if (auto n = m.get("start_s")) o.start_s = n->number(Range::closed(0.0, 86400.0));
+  return o;
+}
+
 const std::string kWallPointLimit =
     "at most " + std::to_string(kMaxWallPoints) + " wall points in all walls (the limit)";
 
@@ -443,8 +470,8 @@ void parse_map(const Node& n, const std::string& scenario_path, Scenario& s) {
 
 Scenario parse_scenario(const Node& root, const std::string& path, const std::string& robots_dir) {
   root.expect_map({"name", "description", "duration_s", "seed", "floor", "robot", "mission",
-                   "lines", "marks", "obstacles", "walls", "terrain", "map", "localisation",
-                   "odometry", "tape_wear", "glare", "expect"});
+                   "lines", "marks", "obstacles", "movers", "walls", "terrain", "map",
+                   "localisation", "odometry", "tape_wear", "glare", "expect"});
   Scenario s;
   s.source_path = path;
   s.name = strict::parse_name(root.at("name"));
@@ -465,6 +492,7 @@ Scenario parse_scenario(const Node& root, const std::string& path, const std::st
   s.marks = parse_list<MarkSpec>(root.get("marks"), kMaxMarks, "marks", parse_mark);
   s.obstacles =
       parse_list<ObstacleSpec>(root.get("obstacles"), kMaxObstacles, "obstacles", parse_obstacle);
+  s.movers = parse_list<MoverSpec>(root.get("movers"), 32, "movers", parse_mover);
   std::size_t wall_budget = kMaxWallPoints;
   s.walls = parse_list<WallSpec>(root.get("walls"), kMaxWalls, "walls",
                                  [&](const Node& n) { return parse_wall(n, wall_budget); });

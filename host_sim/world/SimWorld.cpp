@@ -15,6 +15,11 @@ class SimWorld::ContactCounter : public b2ContactListener {
     const b2Body* a = c->GetFixtureA()->GetBody();
     const b2Body* b = c->GetFixtureB()->GetBody();
     if (a != w_.robot_ && b != w_.robot_) return;
+    const b2Body* other = a == w_.robot_ ? b : a;
+    if (other->GetType() == b2_kinematicBody && !w_.robot_moving()) {
+      ++w_.mover_contacts_;  // a mover walked into a robot that stood still
+      return;
+    }
     ++w_.collisions_;
     b2WorldManifold m;
     c->GetWorldManifold(&m);
@@ -54,6 +59,7 @@ SimWorld::SimWorld(const Scenario& scenario)
                      len / 2 + w.thickness_m / 2, w.thickness_m / 2);
     }
   }
+  for (const MoverSpec& m : scenario.movers) add_mover(m);
   // The map's occupied cells, merged into few rectangles: one static body.
   if (scenario.map) add_map_walls(*world_, merge_occupied_cells(*scenario.map));
   const RobotSpec& r = scenario.robot;
@@ -92,6 +98,59 @@ void SimWorld::add_static_box(double cx, double cy, double yaw, double hx, doubl
   body->CreateFixture(&s, 0.0F);
 }
 
+void SimWorld::add_mover(const MoverSpec& m) {
+  b2BodyDef bd;
+  bd.type = b2_kinematicBody;
+  bd.position.Set(float(m.path[0].x), float(m.path[0].y));
+  bd.angle = float(std::atan2(m.path[1].y - m.path[0].y, m.path[1].x - m.path[0].x));
+  b2Body* body = world_->CreateBody(&bd);
+  b2PolygonShape box;
+  box.SetAsBox(float(m.size_x_m / 2), float(m.size_y_m / 2));
+  b2CircleShape disc;
+  disc.m_radius = float(m.radius_m);
+  if (m.shape == ObstacleShape::Box) {
+    body->CreateFixture(&box, 0.0F);
+  } else {
+    body->CreateFixture(&disc, 0.0F);
+  }
+  movers_.push_back(body);
+}
+
+// Where a mover is `t` seconds after its start along its path (its end once there) [m].
+static Vec2 along_path(const MoverSpec& m, double t) {
+  double left = std::max(0.0, t - m.start_s) * m.speed_mps;
+  for (std::size_t i = 0; i + 1 < m.path.size(); ++i) {
+    const Vec2 a = m.path[i], b = m.path[i + 1];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    if (left <= len && len > 0.0)
+      return {a.x + (b.x - a.x) * left / len, a.y + (b.y - a.y) * left / len};
+    left -= len;
+  }
+  return m.path.back();
+}
+
+void SimWorld::drive_movers(double dt) {
+  for (std::size_t i = 0; i < movers_.size(); ++i) {
+    const Vec2 next = along_path(scenario_.movers[i], t_s_ + dt);
+    const b2Vec2 now = movers_[i]->GetPosition();
+    movers_[i]->SetLinearVelocity(
+        b2Vec2(float((next.x - double(now.x)) / dt), float((next.y - double(now.y)) / dt)));
+  }
+}
+
+Vec2 SimWorld::mover_position(std::size_t i) const {
+  const b2Vec2 p = movers_[i]->GetPosition();
+  return {double(p.x), double(p.y)};
+}
+
+bool SimWorld::robot_moving() const {
+  // Its wheels turning, whatever a push does to the body: the robot is driving.
+  for (int i = 0; i < kin_.wheel_count(); ++i) {
+    if (std::fabs(wheel_speed_[std::size_t(i)]) > 0.05F) return true;
+  }
+  return false;
+}
+
 void SimWorld::set_wheel_targets(const float* radps) {
   for (int i = 0; i < kin_.wheel_count(); ++i) target_[std::size_t(i)] = radps[i];
 }
@@ -124,7 +183,9 @@ void SimWorld::step(double dt) {
   robot_->SetAngularVelocity(float(t.wz));
   const b2Vec2 p0 = robot_->GetPosition();
   const float a0 = robot_->GetAngle();
+  drive_movers(dt);
   world_->Step(float(dt), 8, 3);
+  t_s_ += dt;
   // The ground: a step or slope beyond the robot's limits stops it where it was.
   const TerrainStep ts = terrain_->move_to(pose());
   if (ts.blocked) {

@@ -42,7 +42,12 @@ class SimWorld {
   float wheel_speed(int i) const { return wheel_speed_[std::size_t(i)]; }    // [rad/s]
   double wheel_position(int i) const { return wheel_pos_[std::size_t(i)]; }  // [rad]
 
+  // Contacts while the robot was moving (its own doing), with anything, movers included.
   int collisions() const { return collisions_; }
+  // Contacts a mover made with the robot standing still (not the robot's doing).
+  int mover_contacts() const { return mover_contacts_; }
+  // Where mover i is now [m] (the scenario's movers, in order).
+  Vec2 mover_position(std::size_t i) const;
   // Drops beyond the robot's terrain_limits.max_step_down_m driven off (each also a collision).
   int falls() const { return falls_; }
   // Roll, pitch (positive nose up) and height of the body from the ground under its wheels.
@@ -58,6 +63,10 @@ class SimWorld {
  private:
   class ContactCounter;
   void add_static_box(double cx, double cy, double yaw, double hx, double hy);
+  void add_mover(const MoverSpec& m);
+  // Sets each mover's velocity so that it reaches its place on its path at t_s_ + dt.
+  void drive_movers(double dt);
+  bool robot_moving() const;
 
   const Scenario& scenario_;
   fw::DriveKinematics kin_;
@@ -68,7 +77,10 @@ class SimWorld {
   std::array<float, hal::kMaxWheels> wheel_speed_{};
   std::array<double, hal::kMaxWheels> wheel_pos_{};
   int collisions_ = 0;
+  int mover_contacts_ = 0;
   int falls_ = 0;
+  double t_s_ = 0.0;             // physics time [s]
+  std::vector<b2Body*> movers_;  // kinematic, one per scenario mover
   std::unique_ptr<HeightField> height_;
   std::unique_ptr<TerrainContact> terrain_;
   std::vector<ContactStart> new_contacts_;

@@ -123,8 +123,9 @@ TEST_P(StopShort, AnObstacleOnTheTapeIsStoppedShortOfNeverTouched) {
   EXPECT_GE(converged_at_m, 0.0) << "never within 5 cm of the tape after the bypass";
   EXPECT_LE(converged_at_m, kConvergeWithinM) << "driven from the rejoin to within 5 cm";
   EXPECT_EQ(sum.result, "end_reached") << sum.fault;
-  std::printf("[ figures  ] rest gap %.3f m, back within 5 cm of the tape %.2f m after the rejoin\n",
-              rest_gap, converged_at_m);
+  std::printf(
+      "[ figures  ] rest gap %.3f m, back within 5 cm of the tape %.2f m after the rejoin\n",
+      rest_gap, converged_at_m);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryRobotStrategyAndSpeed, StopShort, testing::ValuesIn(speed_cases()),
@@ -221,6 +222,40 @@ TEST(SafetyTest, NothingStaticIsTakenForSomethingMoving) {
   while (run.step()) {
   }
   EXPECT_EQ(run.firmware().telemetry().obstacles.moving_returns, 0U);
+}
+
+// Issue 46 item 2: a person walks across the tape at 1.6 m/s from 4 m beside it (outside the
+// warning field), at every moment of the robot's approach: the robot never touches the person
+// while it moves (it slows or stops and goes on), and it reaches the end mark. A person that
+// walks on into a robot that has stopped for it is the person's contact, counted apart.
+TEST(SafetyTest, APersonCrossingTheTapeIsNeverTouchedByAMovingRobot) {
+  const Scenario base = test::load_repo_scenario("person_crossing");
+  int walked_into_standing = 0;
+  double closest = 1e9;
+  for (int k = 0; k <= 12; ++k) {
+    Scenario s = base;
+    s.movers[0].start_s = 3.5 + 0.25 * k;  // crossing the tape 2.5 s later: t 6.0 .. 9.0 s
+    SCOPED_TRACE("person sets off at " + std::to_string(s.movers[0].start_s) + " s");
+    SimRun run(s, s.seed);
+    while (run.step()) {
+    }
+    const RunSummary sum = run.summary(1.0);
+    EXPECT_EQ(sum.collisions, 0);
+    EXPECT_EQ(sum.result, "end_reached") << sum.fault;
+    walked_into_standing += sum.mover_contacts;
+    // The person's centre against the robot's, while the robot moved.
+    const MoverSpec& m = s.movers[0];
+    for (const TrajectoryRow& r : run.rows()) {
+      if (std::hypot(r.vx, r.vy) < 0.02) continue;
+      const double y = std::fmin(4.0, -4.0 + m.speed_mps * std::fmax(0.0, r.t - m.start_s));
+      closest = std::fmin(closest, std::hypot(r.x - 8.0, r.y - y));
+    }
+  }
+  std::printf(
+      "person crossing, 13 timings: closest centre distance while moving %.2f m; %d "
+      "contacts the person made with a standing robot\n",
+      closest, walked_into_standing);
+  EXPECT_GT(closest, 0.25 + 0.5 * base.robot.width_m);  // its radius and half the body
 }
 
 }  // namespace

@@ -83,6 +83,7 @@ TEST_F(RunOutputsTest, JsonHasContractKeysInOrder) {
                                              "tick_compute_max_us",
                                              "heap_allocations_after_init",
                                              "collisions",
+                                             "mover_contacts",
                                              "progress",
                                              "laps",
                                              "cross_track_rms_m",

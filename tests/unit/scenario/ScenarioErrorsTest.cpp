@@ -231,6 +231,23 @@ TEST(ScenarioErrors, YamlSyntaxErrorNamesFileAndLine) {
   EXPECT_TRUE(fails_with("name: a\n  bad: [indent\n", {"invalid YAML"}));
 }
 
+// Issue 46 item 2: movers are checked as obstacles are, with their path and speed.
+TEST(ScenarioErrors, BadMoversAreNamed) {
+  const std::string person =
+      "movers:\n  - {shape: cylinder, radius_m: 0.25, path: [[0, 2], [0, -2]], "
+      "speed_mps: 1.6}\n";
+  EXPECT_TRUE(fails_with(kMinimalYaml + "movers:\n  - {shape: cylinder, radius_m: 0.25, path: [[0, "
+                                        "2], [0, -2]], speed_mps: 9}\n",
+                         {"movers[0].speed_mps: expected a number in [0.05, 5], got 9"}));
+  EXPECT_TRUE(fails_with(kMinimalYaml + "movers:\n  - {shape: cylinder, radius_m: 0.25, path: [[0, "
+                                        "2]], speed_mps: 1}\n",
+                         {"movers[0].path"}));
+  EXPECT_TRUE(fails_with(kMinimalYaml + "movers:\n  - {shape: box, radius_m: 0.25, path: [[0, 2], "
+                                        "[0, -2]], speed_mps: 1}\n",
+                         {"movers[0].radius_m: unknown key"}));
+  EXPECT_TRUE(fails_with(kMinimalYaml + person + "  - {shape: disc}\n", {"movers[1].shape"}));
+}
+
 TEST(ScenarioErrors, EmptyOrMultiDocumentFile) {
   EXPECT_TRUE(fails_with("", {"expected a map, got an empty file"}));
   EXPECT_TRUE(fails_with("# only a comment\n", {"empty file"}));

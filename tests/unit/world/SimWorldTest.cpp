@@ -59,6 +59,42 @@ TEST(SimWorldTest, DrivingIntoABoxCountsOneCollisionAndStops) {
   EXPECT_TRUE(world.take_new_contacts().empty());
 }
 
+// Issue 46 item 2: a mover walks its path at its speed from its start time; one that walks into
+// a robot standing still is its contact, not the robot's collision; a robot that drives into a
+// mover standing in its way collides as with any obstacle.
+TEST(SimWorldTest, AMoverWalksItsPathAndItsContactsAreToldApart) {
+  // The box at x 3 is moved out of the way; a person starts 2 m beside the robot at t = 1 s.
+  Scenario s = test::box_scenario(
+      "pioneer3at",
+      "movers: [{shape: cylinder, radius_m: 0.25, path: [[0, -2], [0, 2]], speed_mps: 1.6, "
+      "start_s: 1.0}]\n");
+  s.obstacles.clear();
+  SimWorld world(s);
+  for (int i = 0; i < 200; ++i) world.step(0.005);  // t = 1 s: still at its first point
+  EXPECT_NEAR(world.mover_position(0).y, -2.0, 1e-3);
+  for (int i = 0; i < 100; ++i) world.step(0.005);  // 0.5 s walking: 0.8 m
+  EXPECT_NEAR(world.mover_position(0).y, -1.2, 0.01);
+  for (int i = 0; i < 600; ++i) world.step(0.005);  // it walks through where the robot stands
+  EXPECT_EQ(world.mover_contacts(), 1);
+  EXPECT_EQ(world.collisions(), 0);
+  EXPECT_GT(std::fabs(world.pose().y) + std::fabs(world.pose().x), 0.05);  // pushed aside
+
+  // The same person standing on the robot's way (it sets off after the run): driven into.
+  Scenario d = test::box_scenario(
+      "pioneer3at",
+      "movers: [{shape: cylinder, radius_m: 0.25, path: [[1.5, 0], [1.5, 2]], speed_mps: 1.0, "
+      "start_s: 100}]\n");
+  d.obstacles.clear();
+  SimWorld drive(d);
+  fw::DriveKinematics kin(drive_geometry(d.robot));
+  float w[2];
+  kin.inverse({0.5, 0.0, 0.0}, w);
+  drive.set_wheel_targets(w);
+  for (int i = 0; i < 1000; ++i) drive.step(0.005);
+  EXPECT_EQ(drive.collisions(), 1);
+  EXPECT_EQ(drive.mover_contacts(), 0);
+}
+
 // SimWorld.cpp defines b2Timer so that Box2D's step profile never reads the clock; libbox2d must
 // call that definition, not its own (which would read gettimeofday a dozen times a step).
 TEST(SimWorldTest, Box2DsStepTimerIsTheSimulatorsOwn) {
