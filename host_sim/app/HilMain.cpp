@@ -60,6 +60,7 @@ int run_hil(const Scenario& scenario, std::uint64_t seed, const std::string& out
   cc.tx_backlog = 256;
   cc.send_deadline_ns = 50'000'000;
   cc.tx_batch = 64;  // the drives' frames of a step in one system call
+  cc.rx_batch = 64;  // the controller's frames of a step in one system call
   hal::SocketCanBus::OpenResult bus = hal::SocketCanBus::open(cc);
   if (!bus.bus) {
     std::fprintf(stderr, "carril_sim: --can: %s\n", bus.error.c_str());

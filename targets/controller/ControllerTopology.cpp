@@ -122,6 +122,7 @@ bool Hardware::open(const loader::ControllerSpec& spec, const fw::FirmwareConfig
     cc.iface = spec.can.interface;
     cc.send_deadline_ns = period_ns(fw.rate_hz);  // a setpoint a period old is worse than none
     cc.tx_batch = 32;  // a period's RPDOs, SYNC and heartbeat in one system call (flush())
+    cc.rx_batch = 32;  // a period's TPDOs, heartbeats and answers in one system call
     hal::SocketCanBus::OpenResult r = hal::SocketCanBus::open(cc);
     if (!r.bus) {
       error = spec.source_path + ": can.interface: " + r.error;
