@@ -76,12 +76,15 @@ class ScipServer {
                  const char* status);
   bool send_all(const char* data, std::size_t n);
   void close_client();
+  // Wakes the server thread's poll() (any thread).
+  void wake();
   std::uint32_t now_ms() const;
 
   ScipServerConfig cfg_{};
   hal::TripleBuffer<hal::LaserScan> scans_;
   int listen_fd_ = -1;
   int client_fd_ = -1;
+  int wake_fd_ = -1;  // an eventfd: publish(), inject() and stop() wake the server thread
   std::uint16_t port_ = 0;
   bool running_ = false;
   std::thread thread_;
