@@ -54,6 +54,13 @@ except OSError as e:
 # Run A.
 a = summary("a")
 fa = candump(f"{out}/a.candump")
+# candump -d: "DROPCOUNT: dropped N CAN frame(s) on 'vcan0' socket (total drops T)".
+try:
+    drops = [int(m.group(1)) for m in
+             (re.search(r"total drops (\d+)", line) for line in open(f"{out}/a.candump")) if m]
+except OSError:
+    drops = []
+print(f"run A: candump dropped {drops[-1] if drops else 0} frames of the capture")
 print(f"run A: {len(fa)} frames captured, laps {a['laps']}, progress {a['progress']:.3f}, "
       f"collisions {a['collisions']}, SYNC {a['sync_rate_hz']:.1f} Hz, TPDO {a['tpdo_rate_hz']:.1f} /s")
 check(a["laps"] >= 1, f"run A: at least one full lap of the circle over vcan0 (laps {a['laps']})")

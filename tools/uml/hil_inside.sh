@@ -68,7 +68,9 @@ start_sim a "$((lap_s + 8))" --inject "$lap_s:1:heartbeat_silence"
 "$ctl" --robot "$robot" --controller "$controller" --mission "$mission" >"$out/a.ctl.txt" 2>&1 &
 ctlpid=$!
 sleep "$(awk -v t0="$sim_t0" -v l="$lap_s" -v now="$(date +%s.%N)" 'BEGIN { s = t0 + l - 6 - now; print (s > 0 ? s : 0) }')"
-candump -L vcan0 >"$out/a.candump" &
+# A large receive buffer (root: SO_RCVBUFFORCE) so that a starved candump loses no frame; -d
+# reports any it did lose (DROPCOUNT lines, which hil_check.py counts).
+candump -L -d -r 8388608 vcan0 >"$out/a.candump" &
 dump=$!
 bounded_wait "$simpid" "$((lap_s + 8 + 60))" "a: simulator run (lap, heartbeat silence)"
 echo "sim_a_exit $?" >>"$out/exits"
@@ -94,6 +96,10 @@ else
   bounded_wait "$ctlpid" 20 "b: controller report after SIGINT"
 fi
 echo "ctl_b_exit $?" >>"$out/exits"
+# The drives stop within their consumer time (300 ms) and the quick-stop ramp: 3 s more shows
+# them at rest; the rest of the simulator's 30 s would only wait.
+sleep 3
+kill -INT "$simpid" 2>/dev/null
 bounded_wait "$simpid" 90 "b: simulator run"
 echo "sim_b_exit $?" >>"$out/exits"
 

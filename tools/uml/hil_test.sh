@@ -2,7 +2,7 @@
 # The hardware-in-the-loop test (issue 9 item 8): boots user-mode-linux with vcan0, runs
 # carril_sim --hil and carril_controller there (tools/uml/hil_inside.sh), then checks the capture
 # (tools/uml/hil_check.py). Exit 77 (skip) only when user-mode-linux cannot start at all.
-# Usage: [CARRIL_HIL_LOAD=N] hil_test.sh SIM CONTROLLER [LAP_S]
+# Usage: [CARRIL_HIL_LOAD=N] [CARRIL_HIL_KEEP=1] hil_test.sh SIM CONTROLLER [LAP_S]
 set -uo pipefail
 sim=$1 ctl=$2 lap_s=${3:-45}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -16,7 +16,12 @@ for ((k = 0; k < ${CARRIL_HIL_LOAD:-0}; k++)); do
   load_pids+=($!)
 done
 [ ${#load_pids[@]} -gt 0 ] && echo "hil_test: ${#load_pids[@]} busy processes load the host"
-trap 'kill "${load_pids[@]}" 2>/dev/null; rm -rf "$out"' EXIT
+# CARRIL_HIL_KEEP=1 keeps the run's folder (captures, logs, summaries) and prints its path.
+if [ "${CARRIL_HIL_KEEP:-0}" = 1 ]; then
+  trap 'kill "${load_pids[@]}" 2>/dev/null; echo "hil_test: kept $out"' EXIT
+else
+  trap 'kill "${load_pids[@]}" 2>/dev/null; rm -rf "$out"' EXIT
+fi
 bash "$here/uml_run.sh" --vcan 1 --timeout 300 -- bash "$here/hil_inside.sh" "$sim" "$ctl" "$src" \
   "$out" "$lap_s"
 rc=$?
