@@ -175,6 +175,10 @@ const Field kFields[] = {
     // The tape detector (its colour windows come from the mission's colours).
     CARRIL_INTEGER(Tuning, "detector.decimation", "detector.decimation",
                    camera.detector.decimation),
+    CARRIL_NUMBER(Tuning, "detector.tape_width_m", "detector.tape_width_m",
+                  camera.detector.tape_width_m),
+    CARRIL_NUMBER(Tuning, "detector.min_piece_m", "detector.min_piece_m",
+                  camera.detector.min_piece_m),
     CARRIL_NUMBER(Tuning, "detector.min_area_px", "detector.min_area_px",
                   camera.detector.min_area_px),
     CARRIL_NUMBER(Tuning, "detector.min_end_area_px", "detector.min_end_area_px",

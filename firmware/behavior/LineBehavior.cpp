@@ -347,6 +347,7 @@ BehaviorOutput LineBehavior::avoid(const BehaviorInput& in) {
     return out;
   }
   out.clear_map = true;
+  out.rejoined = true;
   ++obstacles_avoided_;
   line_.reset();
   frames_without_line_ = 0;

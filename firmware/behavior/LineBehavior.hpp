@@ -111,6 +111,9 @@ struct BehaviorInput {
 struct BehaviorOutput {
   Twist twist;
   bool clear_map = false;  // forget the remembered tape (after a search or a bypass)
+  // With clear_map, after a bypass: the tape's line is still what it was before the obstacle,
+  // so what was remembered stays the context small pieces of tape are judged against.
+  bool rejoined = false;
   Fault fault = Fault::None;
 };
 

@@ -31,9 +31,25 @@ void FollowLineMission::enter(const MissionContext& ctx) {
   behavior_.begin(ctx.t_s, odom_.get().pose.yaw);
 }
 
-void FollowLineMission::remember(const LineObservation& obs) {
+bool FollowLineMission::remember(const LineObservation& obs) {
   const LineDetection& det = obs.detection;
-  if (det.detected) map_.add(obs.pose, det.centerline_floor.begin(), det.centerline_floor.size());
+  bool seen = det.sure;
+  if (det.sure) {
+    map_.add(obs.pose, det.centerline_floor.begin(), det.centerline_floor.size());
+  } else if (det.detected) {
+    // A piece too small to be tape on its own (worn tape between gaps, or a speck): tape only
+    // where it continues what was remembered (or, just after a bypass, what was remembered before
+    // it). Added when it reaches past memory's end or memory is empty: a piece replaces memory
+    // from its near point on, and memory already holds the tape it lies on.
+    bool extends = false;
+    const TapeMap& context = map_.empty() ? before_bypass_ : map_;
+    seen = context.continues(obs.pose, det.centerline_floor.begin(), det.centerline_floor.size(),
+                             extends);
+    ++(seen ? pieces_taken_ : pieces_refused_);
+    if (seen && (extends || map_.empty())) {
+      map_.add(obs.pose, det.centerline_floor.begin(), det.centerline_floor.size());
+    }
+  }
   if (obs.end_visible) {
     end_odom_ = to_world(obs.pose, obs.end_floor);
     end_known_ = true;
@@ -42,12 +58,13 @@ void FollowLineMission::remember(const LineObservation& obs) {
     end_glimpse_odom_ = to_world(obs.pose, det.end_floor);
     end_glimpsed_ = true;
   }
+  return seen;
 }
 
 BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   BehaviorInput in;
   in.fresh_frame = obs_.fresh();
-  if (in.fresh_frame) remember(obs_.take());
+  if (in.fresh_frame) line_seen_ = remember(obs_.take());
   in.fresh_scan = obstacles_.fresh();
   if (in.fresh_scan) obstacles_.take();
   const OdometryMsg& odom = odom_.get();
@@ -57,8 +74,8 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   in.imu_ready = ctx.imu_ready;
   in.camera_ready = obs_.ever();
   in.scanner_ready = !lidar_present_ || obstacles_.ever();
-  in.line_visible = det.detected;
-  if (det.detected && det.centerline_floor.size() >= 2) {
+  in.line_visible = line_seen_;
+  if (line_seen_ && det.centerline_floor.size() >= 2) {
     const Vec2 n0 = det.centerline_floor[0], n1 = det.centerline_floor[1];
     in.line_near = n0;
     in.line_near_angle = std::atan2(n1.y() - n0.y(), n1.x() - n0.x());
@@ -91,7 +108,14 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
 MissionOutput FollowLineMission::update(const MissionContext& ctx) {
   const BehaviorInput in = inputs(ctx);
   const BehaviorOutput out = behavior_.step(in, ctx.dt_s);
-  if (out.clear_map) map_.clear();
+  if (out.clear_map) {
+    if (out.rejoined) {
+      before_bypass_ = map_;
+    } else {
+      before_bypass_.clear();
+    }
+    map_.clear();
+  }
   MissionOutput o;
   o.motion.twist = out.twist;
   o.motion.guarded = behavior_.state() == LineState::Follow;
@@ -136,6 +160,8 @@ void FollowLineMission::counters(MissionCounters& out) const {
   out.push_back({"line_reacquired_events", behavior_.line_reacquired_events()});
   out.push_back({"reversed_sightings", behavior_.reversed_sightings()});
   out.push_back({"obstacles_avoided", behavior_.obstacles_avoided()});
+  out.push_back({"tape_pieces_taken", pieces_taken_});
+  out.push_back({"tape_pieces_refused", pieces_refused_});
 }
 
 }  // namespace carril::fw

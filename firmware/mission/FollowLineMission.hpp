@@ -40,6 +40,10 @@ class FollowLineMission final : public Mission {
   MissionState state() const override;
   const char* take_phase_change() override { return behavior_.take_phase_change(); }
   void counters(MissionCounters& out) const override;
+  // Frames whose only tape was a piece smaller than tape on its own, taken because it continued
+  // the remembered tape, and refused because it did not.
+  std::uint32_t pieces_taken() const { return pieces_taken_; }
+  std::uint32_t pieces_refused() const { return pieces_refused_; }
 
   const LineBehavior& behavior() const { return behavior_; }
   const TapeMap& tape() const { return map_; }
@@ -47,8 +51,8 @@ class FollowLineMission final : public Mission {
   void set_costmap(const CostmapView* c) { costmap_ = c; }
 
  private:
-  // Tape and end mark of a new frame into memory.
-  void remember(const LineObservation& obs);
+  // Tape and end mark of a new frame into memory; whether the frame showed tape.
+  bool remember(const LineObservation& obs);
   BehaviorInput inputs(const MissionContext& ctx);
 
   FollowLineConfig cfg_;
@@ -57,6 +61,10 @@ class FollowLineMission final : public Mission {
   BypassPlanner planner_;
   LineBehavior behavior_;
   TapeMap map_;
+  // The tape remembered before a bypass cleared memory, while memory is empty again: a piece
+  // too small to be tape on its own counts where it continues this (the tape beyond the
+  // obstacle, on the line the bypass assumed).
+  TapeMap before_bypass_;
   const Topic<OdometryMsg>& odom_;
   Reader<LineObservation> obs_;
   Reader<ObstacleField> obstacles_;
@@ -66,6 +74,8 @@ class FollowLineMission final : public Mission {
   const CostmapView* costmap_ = nullptr;
   std::uint32_t costmap_seen_ = 0;
   Vec2 end_odom_ = Vec2::Zero();
+  bool line_seen_ = false;  // the newest frame showed tape (LineDetection::sure, or a piece of it)
+  std::uint32_t pieces_taken_ = 0, pieces_refused_ = 0;
 };
 
 }  // namespace carril::fw

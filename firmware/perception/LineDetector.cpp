@@ -318,14 +318,47 @@ LineDetector::LineDetector(const CameraModel& camera, const LineDetectorConfig& 
   const int w = camera.mount().width, h = camera.mount().height;
   cfg_.decimation = normalised_decimation(config.decimation);
   const double scale = double(w) * h / (640.0 * 480.0);
-  if (cfg_.min_area_px <= 0) cfg_.min_area_px = 6000.0 * scale;
   if (cfg_.min_end_area_px <= 0) cfg_.min_end_area_px = 1500.0 * scale;
+  ref_area_px_ = cfg_.min_area_px > 0 ? cfg_.min_area_px : 6000.0 * scale;
+  if (cfg_.min_area_px > 0) {
+    min_blob_px_ = cfg_.min_area_px;
+  } else {
+    // The floor rule. Its smallest pixel area is where a pixel covers the most floor (the far
+    // corners of the view): a 9 x 9 grid of the image's pixels bounds it for the labeler's
+    // candidates, each blob is then measured where it lies.
+    min_floor_m2_ = cfg_.tape_width_m * cfg_.min_piece_m;
+    double most = 0.0;
+    for (int i = 0; i <= 8; ++i) {
+      for (int j = 0; j <= 8; ++j) {
+        const Vec2 px(0.5 + (w - 1.0) * i / 8.0, 0.5 + (h - 1.0) * j / 8.0);
+        most = std::fmax(most, pixel_floor_area_m2(px));
+      }
+    }
+    min_blob_px_ = most > 0.0 ? std::fmax(1.0, min_floor_m2_ / (1.25 * most)) : 1.0;
+    min_blob_px_ = std::fmin(min_blob_px_, ref_area_px_);  // tape on its own always counts
+  }
   const int d = cfg_.decimation;
   buf_ = std::make_unique<Buffers>(w, h, w / d > 0 ? w / d : 1, h / d > 0 ? h / d : 1, d);
   color_lut::build(cfg_.line, cfg_.end, buf_->lut.get());
 }
 
 LineDetector::~LineDetector() = default;
+
+double LineDetector::pixel_floor_area_m2(const Vec2& px) const {
+  // The pixel's four corners on the floor, and the quadrilateral's area (shoelace).
+  const double du[4] = {-0.5, 0.5, 0.5, -0.5}, dv[4] = {-0.5, -0.5, 0.5, 0.5};
+  Vec2 q[4];
+  for (int k = 0; k < 4; ++k) {
+    if (!cam_.pixel_to_floor(px + Vec2(du[k], dv[k]), q[k])) return 0.0;
+  }
+  double a2 = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec2& p0 = q[k];
+    const Vec2& p1 = q[(k + 1) % 4];
+    a2 += p0.x() * p1.y() - p1.x() * p0.y();
+  }
+  return 0.5 * std::fabs(a2);
+}
 
 namespace {
 
@@ -370,9 +403,15 @@ Blob make_blob(const BlobSums& s, int width, int height) {
 
 // Labels `mask` and fills `blobs` with up to `max_out` blobs of at least `min_area`, largest
 // first. False when the mask saturated the run storage.
+// With `floor_of` (the floor rule), a blob counts when its area times the floor area of a pixel
+// at its centroid is at least min_floor_m2, or it is at least sure_area (tape on its own: near
+// the robot, where a pixel covers little floor, the floor rule would be stricter than the
+// thesis's); min_area then only bounds the candidates.
+template <typename FloorArea>
 bool find_blobs(RunLabeler& lab, BlobRefiner& refiner, const hal::CameraFrame& frame,
                 const BitImage& mask, const ColorThreshold& t, int d, double min_area, int max_out,
-                StaticVector<Blob, kMaxBlobs>& blobs) {
+                StaticVector<Blob, kMaxBlobs>& blobs, const FloorArea& floor_of,
+                double min_floor_m2, double sure_area) {
   blobs.clear();
   if (!lab.label(mask)) return false;
   constexpr int kCandidates = 6;
@@ -387,6 +426,10 @@ bool find_blobs(RunLabeler& lab, BlobRefiner& refiner, const hal::CameraFrame& f
     if (sums.n == 0) continue;
     const Blob b = make_blob(sums, frame.width, frame.height);
     if (b.area_px < min_area) continue;
+    if (min_floor_m2 > 0.0 && b.area_px < sure_area &&
+        b.area_px * floor_of(b.centroid_px) < min_floor_m2) {
+      continue;
+    }
     if (blobs.full() && b.area_px <= blobs.back().area_px) continue;
     if (blobs.full()) blobs.pop_back();
     blobs.push_back(b);
@@ -452,9 +495,12 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   out = LineDetection{};
   out.stamp_ns = frame.stamp_ns;
   out.seq = frame.seq;
-  const bool line_ok = find_blobs(bf.labeler, bf.refiner, frame, bf.line, cfg_.line, d,
-                                  cfg_.min_area_px, kMaxBlobs, out.blobs);
+  const auto floor_of = [this](const Vec2& px) { return pixel_floor_area_m2(px); };
+  const bool line_ok =
+      find_blobs(bf.labeler, bf.refiner, frame, bf.line, cfg_.line, d, min_blob_px_, kMaxBlobs,
+                 out.blobs, floor_of, min_floor_m2_, ref_area_px_);
   out.detected = line_ok && !out.blobs.empty();
+  out.sure = out.detected && out.blobs[0].area_px >= ref_area_px_;
   if (out.detected) {
     const Blob& b = out.blobs[0];
     for (const Vec2& p : b.centerline_px) {
@@ -476,14 +522,14 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
       if (angle_ok) out.angle_floor_rad = std::atan2(far.y() - near.y(), far.x() - near.x());
     }
     // Confidence, the product of three terms in 0..1:
-    //  - size: area / (2 x min area), capped at 1 (a strip through the whole image is about
-    //    twice the thesis's minimum area; a piece at the edge of the image is a fraction);
+    //  - size: area / (2 x the thesis's minimum area, 6000 px at 640x480), capped at 1 (a strip
+    //    through the whole image is about that; a short piece or one at the edge a fraction);
     //  - shape: 0.5 + 0.5 x min(1, (elongation - 1) / 3): a strip (elongation >= 4) scores 1, a
     //    round blob 0.5, since a tape seen end-on or at a corner can be compact;
     //  - agreement: 1 - 0.5 x (second blob's area / largest's): a fork or a second segment of
     //    comparable size makes the choice of the largest uncertain.
     // 0 when the centroid does not map onto the floor, and 0 (not detected) for a saturated mask.
-    const double size = b.area_px / (2.0 * cfg_.min_area_px);
+    const double size = b.area_px / (2.0 * ref_area_px_);
     const double shape = 0.5 + 0.5 * std::fmin(1.0, (b.elongation - 1.0) / 3.0);
     const double second = out.blobs.size() > 1 ? out.blobs[1].area_px / b.area_px : 0.0;
     const double c = std::fmin(1.0, size) * shape * (1.0 - 0.5 * second);
@@ -491,8 +537,8 @@ bool LineDetector::detect(const hal::CameraFrame& frame, LineDetection& out) {
   }
 
   StaticVector<Blob, kMaxBlobs> ends;
-  if (find_blobs(bf.labeler, bf.refiner, frame, bf.end, cfg_.end, d, cfg_.min_end_area_px, 1,
-                 ends) &&
+  if (find_blobs(bf.labeler, bf.refiner, frame, bf.end, cfg_.end, d, cfg_.min_end_area_px, 1, ends,
+                 floor_of, 0.0, 0.0) &&
       !ends.empty()) {
     out.end_blob = ends[0];
     out.end_detected = cam_.pixel_to_floor(out.end_blob.centroid_px, out.end_floor);
@@ -520,6 +566,8 @@ Status LineDetectorConfig::validate() const {
   return c
       .fail_if(decimation != 1 && decimation != 2 && decimation != 4, "decimation",
                "expected 1, 2 or 4")
+      .range("tape_width_m", tape_width_m, 0.005, 0.5, "m")
+      .range("min_piece_m", min_piece_m, 0.01, 2.0, "m")
       .range("min_area_px", min_area_px, 0.0, 1e7, "px")
       .range("min_end_area_px", min_end_area_px, 0.0, 1e7, "px")
       .result();

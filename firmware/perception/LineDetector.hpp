@@ -28,11 +28,17 @@ bool color_preset(const char* name, ColorThreshold& out);
 ColorThreshold threshold_around_rgb(std::uint8_t r, std::uint8_t g, std::uint8_t b);
 
 struct LineDetectorConfig {
-  ColorThreshold line;         // tape colour
-  ColorThreshold end;          // end-mark colour
-  int decimation = 2;          // work on every n-th pixel block (n x n averaged): 1, 2 or 4
-  double min_area_px = 0;      // minimum blob area in full-resolution pixels; 0 = 6000 scaled by
-                               // the image area relative to 640x480 (the thesis's value)
+  ColorThreshold line;  // tape colour
+  ColorThreshold end;   // end-mark colour
+  int decimation = 2;   // work on every n-th pixel block (n x n averaged): 1, 2 or 4
+  // A tape blob counts when it covers at least a piece of tape min_piece_m long on the floor:
+  // its pixel area times the floor area of a pixel where it lies (through the camera model) is at
+  // least tape_width_m x min_piece_m, so the same piece counts near the robot and far away. A
+  // blob of the thesis's 6000 px (scaled) counts wherever it lies: tape on its own (`sure`).
+  double tape_width_m = 0.05;  // the tape's width [m]
+  double min_piece_m = 0.08;   // the shortest stretch of tape taken for tape [m]
+  double min_area_px = 0;      // > 0: a fixed minimum blob area in full-resolution pixels
+                               // instead (the thesis's 6000 at 640x480); 0: the floor rule above
   double min_end_area_px = 0;  // minimum end-mark area; 0 = 1500 scaled the same way
   // Classify only the blocks near sampled blocks of either colour (exact: see LineDetector.cpp);
   // false: every block of every frame (the reference the tests compare it with).
@@ -60,7 +66,11 @@ struct Blob {
 struct LineDetection {
   hal::TimeNs stamp_ns = 0;
   std::uint32_t seq = 0;
-  bool detected = false;        // a tape blob at least min_area_px large was found
+  bool detected = false;  // a tape blob at least the minimum (see LineDetectorConfig) found
+  // The largest blob is at least the size that is tape on its own (the thesis's 6000 px at
+  // 640x480, or min_area_px): smaller ones are pieces of worn tape, or specks, and count only
+  // where they continue the tape seen before (FollowLineMission, TapeMap::continues).
+  bool sure = false;
   float confidence = 0.0F;      // 0..1: area, elongation and agreement of the blobs
   StaticVector<Blob, 4> blobs;  // tape blobs above min area, largest first (forks, second segments)
   // The largest tape blob on the floor, robot frame (x forward, y left) [m, rad]:
@@ -92,6 +102,13 @@ class LineDetector {
   bool detect(const hal::CameraFrame& frame, LineDetection& out);
 
   const LineDetectorConfig& config() const { return cfg_; }
+  // The floor area one pixel at px covers [m^2]; 0 when its corners do not all map to the floor.
+  double pixel_floor_area_m2(const Vec2& px) const;
+  // The smallest tape blob that can count anywhere in the image [px] (its pixel minimum, or the
+  // floor rule's smallest pixel area where a pixel covers the most floor).
+  double min_blob_px() const { return min_blob_px_; }
+  // A blob at least this large is tape on its own (LineDetection::sure) [px].
+  double sure_area_px() const { return ref_area_px_; }
 
   // Blocks classified so far, samples included (for tests and profiling).
   std::uint64_t classified_blocks() const { return classified_blocks_; }
@@ -106,6 +123,10 @@ class LineDetector {
   const CameraModel& cam_;
   LineDetectorConfig cfg_;
   std::unique_ptr<Buffers> buf_;
+  double min_floor_m2_ = 0.0;  // the floor rule's area; 0: min_area_px rules
+  double min_blob_px_ = 0.0;
+  double ref_area_px_ = 0.0;  // tape on its own, and the confidence's size unit: 6000 px scaled,
+                              // or min_area_px
   std::uint64_t classified_blocks_ = 0;
   std::uint64_t floor_boxes_ = 0, box_runs_tested_ = 0, box_runs_inside_ = 0;
 };

@@ -128,6 +128,58 @@ double TapeMap::start_curvature() const {
   return dh / (0.5 * (c1.norm() + c2.norm()));
 }
 
+bool TapeMap::continues(const Pose2& odom, const Vec2* pts_robot, std::size_t n,
+                        bool& extends) const {
+  extends = false;
+  if (pts_.size() < 2 || n < 2) return false;
+  const PoseFrame frame(odom);
+  const Vec2 near = frame.to_world(pts_robot[0]), far = frame.to_world(pts_robot[n - 1]);
+  const double len = (far - near).norm();
+  if (len < kMinPieceM) return false;  // a speck has no direction to agree with
+  const Vec2 u = (far - near) / len;
+  const auto angle = [](const Vec2& a, const Vec2& b) {
+    return std::fabs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+  };
+  // On memory: every point within a segment's tolerance of the remembered path, which runs the
+  // piece's way where the piece's middle is.
+  const std::size_t last = pts_.size() - 1;
+  bool on_path = true;
+  Vec2 mid_dir = Vec2::Zero();
+  for (std::size_t j = 0; j <= n && on_path; ++j) {
+    const Vec2 q = j < n ? frame.to_world(pts_robot[j]) : Vec2(0.5 * (near + far));
+    double best = 1e18;  // the best segment's distance beyond its tolerance [m]
+    for (std::size_t i = 0; i < last; ++i) {
+      const Vec2 d = pts_[i + 1] - pts_[i];
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 1e-12 ? clampd((q - pts_[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
+      // A long segment is memory's own bridge over tape it did not see (a gap, an obstacle):
+      // the tape there may bend, as across a gap.
+      const double excess = (pts_[i] + t * d - q).norm() - tolerance(std::sqrt(len2));
+      if (excess < best) {
+        best = excess;
+        if (j == n) mid_dir = d;
+      }
+    }
+    if (j < n) on_path = best <= 0.0;
+  }
+  if (on_path) return angle(mid_dir, u) <= kContinueMaxTurnRad;
+  // Past memory's end, across a gap: the piece reaches beyond the end and begins no further than
+  // kContinueReachM past it, its line passes within the tolerance of the end (the tolerance
+  // growing with the gap, for a tape that bends), and it runs the way memory's last 15 cm ran.
+  const Vec2 end = pts_[last];
+  std::size_t back = last;
+  while (back > 0 && (end - pts_[back]).norm() < 0.15) --back;
+  const Vec2 end_dir = end - pts_[back];
+  if (end_dir.norm() < 1e-3 || (far - end).dot(u) <= 0.0) return false;
+  const double gap = (near - end).dot(u);
+  const Vec2 off = end - near;
+  const double offset = std::fabs(u.x() * off.y() - u.y() * off.x());
+  const bool ok = gap <= kContinueReachM && offset <= tolerance(gap) &&
+                  angle(end_dir, u) <= kContinueMaxTurnRad;
+  extends = ok;
+  return ok;
+}
+
 TapeMap::Nearest TapeMap::nearest(const Vec2& q) const {
   // Nearest point on the polyline, with the first segment extended backwards (the robot may not
   // have reached the first remembered point yet).

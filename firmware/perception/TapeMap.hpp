@@ -45,6 +45,28 @@ class TapeMap {
   // Points further than this off the chord end a straight stretch (the tape is 5 cm wide; a
   // 1.2 m-radius arc bows 9 mm over 0.3 m) [m].
   static constexpr double kStraightTolM = 0.02;
+  // Whether a piece of tape seen from `odom` (centre-line points, robot frame, near to far)
+  // continues the remembered tape: at least kMinPieceM long, and either lying on the remembered
+  // path (every point within tolerance() of a segment's length, running the path's way there)
+  // or reaching past memory's end across a gap of at most kContinueReachM, on a line that passes
+  // within tolerance(gap) of the end (kContinueTolM, plus kContinueSpread per metre of gap up to
+  // kContinueSpreadUpToM, for a tape that bends) and within kContinueMaxTurnRad of the way
+  // memory's last 15 cm ran. `extends`: the latter, so
+  // adding the piece tells memory something new.
+  bool continues(const Pose2& odom, const Vec2* pts_robot, std::size_t n, bool& extends) const;
+  static constexpr double kMinPieceM = 0.04;           // [m]
+  static constexpr double kContinueTolM = 0.04;        // [m]
+  static constexpr double kContinueReachM = 4.0;       // [m]
+  static constexpr double kContinueSpread = 0.05;      // [m per m]
+  static constexpr double kContinueMaxTurnRad = 0.6;   // [rad]
+  static constexpr double kContinueSpreadUpToM = 0.6;  // the tolerance grows over this much gap
+  // The tolerance across a gap of gap_m [m].
+  static double tolerance(double gap_m) {
+    return kContinueTolM + kContinueSpread * (gap_m < 0.0 ? 0.0
+                                              : gap_m < kContinueSpreadUpToM
+                                                  ? gap_m
+                                                  : kContinueSpreadUpToM);
+  }
   // Remembered points, odometry frame, in path order.
   const StaticVector<Vec2, kMaxPoints>& points() const { return pts_; }
 

@@ -89,6 +89,8 @@ inline void expect_same(const fw::FirmwareConfig& a, const fw::FirmwareConfig& b
     EXPECT_EQ(ta.v_hi, tb.v_hi);
   }
   CARRIL_SAME(camera.detector.decimation);
+  CARRIL_SAME(camera.detector.tape_width_m);
+  CARRIL_SAME(camera.detector.min_piece_m);
   CARRIL_SAME(camera.detector.min_area_px);
   CARRIL_SAME(camera.detector.min_end_area_px);
   CARRIL_SAME(camera.health.sample_step_px);

@@ -46,7 +46,7 @@ TEST(TuningLoader, ShippedFileLoads) {
   const std::string path = source_path("config/tuning/default.yaml");
   ASSERT_TRUE(load_tuning(path, t, error)) << error;
   EXPECT_EQ(t.source_path, path);
-  EXPECT_EQ(t.settings.size(), 31U);
+  EXPECT_EQ(t.settings.size(), 33U);
 }
 
 TEST(TuningLoader, UnknownKeysListTheAllowedOnes) {
@@ -57,7 +57,7 @@ TEST(TuningLoader, UnknownKeysListTheAllowedOnes) {
   const Loaded nested = load("detector:\n  decimate: 2\n");
   EXPECT_EQ(nested.error, nested.path +
                               ":2: detector.decimate: unknown key (allowed: "
-                              "decimation, min_area_px, min_end_area_px)");
+                              "decimation, tape_width_m, min_piece_m, min_area_px, min_end_area_px)");
   // The robot's own limits are its description's, not tuning.
   const Loaded limit = load("limits: {max_speed_mps: 0.5}\n");
   EXPECT_EQ(limit.error, limit.path +

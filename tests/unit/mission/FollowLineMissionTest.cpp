@@ -22,8 +22,21 @@ struct Rig {
   void see_tape(hal::TimeNs t) {
     LineObservation& o = line.edit();
     o.detection.detected = true;
+    o.detection.sure = true;
     o.detection.centerline_floor.clear();
     for (int i = 0; i < 10; ++i) o.detection.centerline_floor.push_back(Vec2(0.3 + 0.1 * i, 0.0));
+    o.pose = odom.get().pose;
+    line.publish(t);
+  }
+  // A frame whose only tape is a piece smaller than tape on its own, from `from` to `to` (robot
+  // frame), and nothing else.
+  void see_piece(hal::TimeNs t, const Vec2& from, const Vec2& to) {
+    LineObservation& o = line.edit();
+    o.detection.detected = true;
+    o.detection.sure = false;
+    o.detection.centerline_floor.clear();
+    for (int i = 0; i <= 3; ++i)
+      o.detection.centerline_floor.push_back(from + (to - from) * (i / 3.0));
     o.pose = odom.get().pose;
     line.publish(t);
   }
@@ -79,13 +92,51 @@ TEST(FollowLineMissionTest, CountsUnderTheirNames) {
   Rig r;
   MissionCounters c;
   r.mission.counters(c);
-  ASSERT_EQ(c.size(), 4U);
-  const char* names[] = {"line_lost_events", "line_reacquired_events", "reversed_sightings",
-                         "obstacles_avoided"};
-  for (std::size_t i = 0; i < 4; ++i) {
+  ASSERT_EQ(c.size(), 6U);
+  const char* names[] = {"line_lost_events",  "line_reacquired_events", "reversed_sightings",
+                         "obstacles_avoided", "tape_pieces_taken",      "tape_pieces_refused"};
+  for (std::size_t i = 0; i < 6; ++i) {
     EXPECT_STREQ(c[i].name, names[i]);
     EXPECT_EQ(c[i].value, 0U);
   }
+}
+
+// Issue 46 item 4: a piece of tape too small to count on its own (worn tape between gaps) is
+// tape where it continues the remembered tape, past a gap, and is then remembered; beside the
+// tape's line it is a speck: refused, counted, and it neither starts a follow nor enters memory.
+TEST(FollowLineMissionTest, APieceCountsOnlyWhereItContinuesTheRememberedTape) {
+  Rig r;
+  r.mission.enter(r.ctx);
+  r.obstacles.publish(1);
+  // Before any tape is remembered a piece is not tape: START does not leave its search for it.
+  r.see_piece(1, Vec2(0.3, 0.0), Vec2(0.45, 0.0));
+  r.step(0.0);
+  r.see_piece(2, Vec2(0.3, 0.0), Vec2(0.45, 0.0));
+  r.step(0.01);
+  EXPECT_STREQ(r.mission.state().name, "START");
+  EXPECT_TRUE(r.mission.tape().empty());
+  EXPECT_EQ(r.mission.pieces_refused(), 2U);
+  r.see_tape(3);
+  r.step(0.02);
+  ASSERT_STREQ(r.mission.state().name, "FOLLOW");
+  const std::size_t remembered = r.mission.tape().points().size();
+  // Past a 15 cm gap beyond memory's end (1.2 m): taken, and memory now reaches 1.59 m.
+  r.see_piece(4, Vec2(1.35, 0.0), Vec2(1.59, 0.0));
+  r.step(0.03);
+  EXPECT_EQ(r.mission.pieces_taken(), 1U);
+  EXPECT_GT(r.mission.tape().points().size(), remembered);
+  EXPECT_NEAR(r.mission.tape().points().back().x(), 1.59, 1e-9);
+  // 12 cm beside the line: refused, memory unchanged.
+  const std::size_t before = r.mission.tape().points().size();
+  r.see_piece(5, Vec2(1.65, 0.12), Vec2(1.89, 0.12));
+  r.step(0.04);
+  EXPECT_EQ(r.mission.pieces_refused(), 3U);
+  EXPECT_EQ(r.mission.tape().points().size(), before);
+  EXPECT_NEAR(r.mission.tape().points().back().x(), 1.59, 1e-9);
+  MissionCounters c;
+  r.mission.counters(c);
+  EXPECT_EQ(c[4].value, 1U);
+  EXPECT_EQ(c[5].value, 3U);
 }
 
 TEST(FollowLineMissionTest, ConfigValidateNamesNestedFields) {

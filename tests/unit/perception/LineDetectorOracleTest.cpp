@@ -126,7 +126,10 @@ void compare_with_oracle(int decimation, bool print_table) {
   }
   for (const FrameCase& fc : cases) {
     const auto rf = render_case(fc);
-    const fw::LineDetectorConfig cfg = config_for(fc.color, decimation);
+    fw::LineDetectorConfig cfg = config_for(fc.color, decimation);
+    // The oracle is the thesis's pipeline, whose minimum is a pixel count: compare like with like.
+    cfg.min_area_px =
+        6000.0 * rf->camera().mount().width * rf->camera().mount().height / (640.0 * 480.0);
     fw::LineDetector det(rf->camera(), cfg);
     fw::LineDetection d;
     ASSERT_TRUE(det.detect(*rf->frame, d)) << fc.name;

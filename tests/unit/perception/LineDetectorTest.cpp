@@ -114,8 +114,9 @@ TEST(LineDetectorTest, ThresholdAroundRgb) {
 }
 
 TEST(LineDetectorTest, MinimumAreaRejectsSmallBlobs) {
-  LineDetector det(synthetic_camera(), config_for("white"));
-  EXPECT_DOUBLE_EQ(det.config().min_area_px, 6000.0);  // the thesis's value at 640x480
+  fw::LineDetectorConfig px_rule = config_for("white");
+  px_rule.min_area_px = 6000.0;  // the thesis's fixed minimum at 640x480
+  LineDetector det(synthetic_camera(), px_rule);
   EXPECT_DOUBLE_EQ(det.config().min_end_area_px, 1500.0);
   Canvas small;
   small.rect(300, 200, 340, 300, 255, 255, 255);  // 40 x 100 = 4000 px
@@ -145,6 +146,73 @@ TEST(LineDetectorTest, MinimumAreaRejectsSmallBlobs) {
   LineDetector det_low(synthetic_camera(), low);
   ASSERT_TRUE(det_low.detect(*small.f, d));
   EXPECT_TRUE(d.detected);
+  EXPECT_TRUE(d.sure);  // with a pixel minimum, every blob it keeps is tape on its own
+}
+
+// Issue 46 item 4: by default a blob counts when it covers a piece of tape min_piece_m (8 cm)
+// long on the floor, wherever it lies in the image: a 5 cm piece is refused and a 12 cm piece
+// taken both at the near edge of campero's view and at its far edge, where the same piece has
+// about a third of the pixels. The thesis's fixed 6000 px refused the 12 cm piece everywhere.
+TEST(LineDetectorTest, MinimumBlobFollowsTheTapesWidthAndItsDistanceInTheImage) {
+  struct Piece {
+    double length_m, ahead_m;
+    bool counts;
+  };
+  const Piece pieces[] = {
+      {0.05, 0.85, false}, {0.05, 1.60, false}, {0.12, 0.85, true}, {0.12, 1.60, true}};
+  double near_px = 0.0, far_px = 0.0;
+  for (const Piece& p : pieces) {
+    char lines[96];
+    std::snprintf(lines, sizeof lines, "{color: white, points: [[0, 0], [%.2f, 0]]}", p.length_m);
+    // The piece's middle p.ahead_m in front of the robot, along its heading.
+    const sim::Pose2 at = pose_viewing(0.5 * p.length_m, 0.0, 0.0, p.ahead_m, 0.0);
+    const auto rf = render_case(
+        {"piece", "campero", lines, "", 0, at.x, at.y, at.yaw_rad * kDegPerRad, "white", false});
+    SCOPED_TRACE(std::to_string(p.length_m) + " m piece " + std::to_string(p.ahead_m) + " m ahead");
+    LineDetector det(rf->camera(), config_for("white"));
+    LineDetection d;
+    ASSERT_TRUE(det.detect(*rf->frame, d));
+    EXPECT_EQ(d.detected, p.counts);
+    EXPECT_FALSE(d.sure) << "a piece is not tape on its own";
+    // Its pixels, whatever the verdict: the pixel rule sees them.
+    fw::LineDetectorConfig all = config_for("white");
+    all.min_area_px = 1.0;
+    LineDetector any(rf->camera(), all);
+    LineDetection a;
+    ASSERT_TRUE(any.detect(*rf->frame, a));
+    ASSERT_TRUE(a.detected);
+    if (p.length_m > 0.1) (p.ahead_m < 1.0 ? near_px : far_px) = a.blobs[0].area_px;
+    EXPECT_LT(a.blobs[0].area_px, 6000.0);  // below the thesis's fixed minimum
+  }
+  std::printf("a 12 cm piece of 5 cm tape: %.0f px at 0.85 m, %.0f px at 1.60 m\n", near_px,
+              far_px);
+  EXPECT_GT(near_px, 2.0 * far_px);
+}
+
+// A blob of the thesis's 6000 px is tape on its own wherever it lies: through a camera that sees
+// little floor (a narrow lens close over it) 8000 px cover less than the floor rule's 5 x 8 cm,
+// and still count, so the floor rule only ever adds pieces to what the pixel rule kept.
+TEST(LineDetectorTest, ABlobOfTheReferenceSizeCountsWhereverItLies) {
+  fw::CameraMount narrow;
+  narrow.z_m = 0.1;
+  narrow.tilt_rad = 1.5;
+  narrow.hfov_rad = 0.3;
+  const fw::CameraModel cam(narrow);
+  Canvas c;
+  c.rect(280, 140, 320, 340, 255, 255, 255);  // 40 x 200 = 8000 px
+  LineDetector det(cam, config_for("white"));
+  ASSERT_NEAR(det.sure_area_px(), 6000.0, 1e-9);
+  ASSERT_GT(det.pixel_floor_area_m2(fw::Vec2(300.0, 240.0)), 0.0);  // it sees the floor
+  ASSERT_LT(8000.0 * det.pixel_floor_area_m2(fw::Vec2(300.0, 240.0)), 0.05 * 0.08);
+  LineDetection d;
+  ASSERT_TRUE(det.detect(*c.f, d));
+  EXPECT_TRUE(d.detected);
+  EXPECT_TRUE(d.sure);
+  // Half of it is neither tape on its own nor 5 x 8 cm of floor: refused.
+  Canvas half;
+  half.rect(280, 140, 320, 240, 255, 255, 255);
+  ASSERT_TRUE(det.detect(*half.f, d));
+  EXPECT_FALSE(d.detected);
 }
 
 TEST(LineDetectorTest, TwoParallelTapesGiveTwoBlobsLargestFirst) {

@@ -298,5 +298,66 @@ TEST(TapeMapTest, FewerThanTwoPointsIsNotTracked) {
   EXPECT_FALSE(m.track(Pose2{}, kLookahead, kPreview).valid);
 }
 
+// Issue 46 item 4: a piece of worn tape too small to be tape on its own continues memory when it
+// lies on the remembered path or on its continuation past the end (a 15 cm gap further on, along
+// the curve the tape was bending on), running the same way; a piece beside the path, across it,
+// past a corner memory cannot predict, or a speck does not.
+TEST(TapeMapTest, APieceContinuesTheRememberedTapeOnlyOnItsLine) {
+  const Pose2 o{1.0, -2.0, 2.5};
+  const auto piece = [&](const Vec2& from, const Vec2& to) {
+    std::vector<Vec2> v;
+    for (int i = 0; i <= 4; ++i) v.push_back(from + (to - from) * (i / 4.0));
+    return v;
+  };
+  bool extends = true;
+  TapeMap straight;
+  add(straight, o, view([](double s) { return Vec2(s, 0.0); }));  // memory ends 1.8 m ahead
+  // On memory: it continues, but says nothing new.
+  std::vector<Vec2> p = piece(Vec2(1.0, 0.01), Vec2(1.12, 0.0));
+  EXPECT_TRUE(straight.continues(o, p.data(), p.size(), extends));
+  EXPECT_FALSE(extends);
+  // After a 15 cm gap past memory's end, and a second gap further on.
+  p = piece(Vec2(1.95, 0.0), Vec2(2.07, 0.01));
+  EXPECT_TRUE(straight.continues(o, p.data(), p.size(), extends));
+  EXPECT_TRUE(extends);
+  p = piece(Vec2(2.25, -0.02), Vec2(2.37, -0.02));
+  EXPECT_TRUE(straight.continues(o, p.data(), p.size(), extends));
+  // Beside the line (10 cm off), across it, past the reach, and a speck on it.
+  p = piece(Vec2(1.95, 0.10), Vec2(2.07, 0.10));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+  p = piece(Vec2(1.95, -0.03), Vec2(1.99, 0.03));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+  p = piece(Vec2(5.9, 0.0), Vec2(6.02, 0.0));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+  p = piece(Vec2(1.95, 0.0), Vec2(1.97, 0.0));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+  // Running backwards along the line.
+  p = piece(Vec2(2.07, 0.0), Vec2(1.95, 0.0));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+  // The new leg of a corner (90 deg left) just past memory's end: not predicted.
+  p = piece(Vec2(1.9, 0.05), Vec2(1.9, 0.17));
+  EXPECT_FALSE(straight.continues(o, p.data(), p.size(), extends));
+
+  // A circle of radius 1.2 m: a piece past a gap lies on the continued circle; one 8 cm outside
+  // it does not.
+  const double r = 1.2;
+  const auto on_circle = [&](double s) {
+    return Vec2(r * std::sin(s / r), r - r * std::cos(s / r));
+  };
+  TapeMap arc;
+  add(arc, o, view(on_circle));
+  p = piece(on_circle(1.95), on_circle(2.07));
+  EXPECT_TRUE(arc.continues(o, p.data(), p.size(), extends));
+  EXPECT_TRUE(extends);
+  const Vec2 outward = on_circle(2.01) - Vec2(0.0, r);
+  const Vec2 off = outward.normalized() * 0.08;  // 8 cm outside the circle
+  p = piece(on_circle(1.95) + off, on_circle(2.07) + off);
+  EXPECT_FALSE(arc.continues(o, p.data(), p.size(), extends));
+
+  TapeMap none;  // nothing remembered: no piece continues anything
+  p = piece(Vec2(1.0, 0.0), Vec2(1.12, 0.0));
+  EXPECT_FALSE(none.continues(o, p.data(), p.size(), extends));
+}
+
 }  // namespace
 }  // namespace carril::fw
