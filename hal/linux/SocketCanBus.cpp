@@ -110,6 +110,17 @@ SocketCanBus::SocketCanBus(const Config& cfg) : cfg_(cfg), backlog_(cfg.tx_backl
     rx_iov_ = std::make_unique<iovec[]>(n);
     // new[] of char is aligned for any fundamental type; kRxCtrl is a multiple of cmsghdr's.
     rx_ctrl_ = std::make_unique<char[]>(n * kRxCtrl);
+    // The buffers never move: each message points at its own once, here. recvmmsg writes only
+    // msg_len, msg_flags and msg_controllen, which receive() resets for the messages it filled.
+    for (std::size_t k = 0; k < n; ++k) {
+      rx_iov_[k] = iovec{&rx_[k], sizeof(can_frame)};
+      rx_msgs_[k] = mmsghdr{};
+      msghdr& h = rx_msgs_[k].msg_hdr;
+      h.msg_iov = &rx_iov_[k];
+      h.msg_iovlen = 1;
+      h.msg_control = &rx_ctrl_[k * kRxCtrl];
+      h.msg_controllen = kRxCtrl;
+    }
   }
 }
 
@@ -318,16 +329,13 @@ bool SocketCanBus::receive(CanFrame& out) {
         return false;
       }
       const int cap = cfg_.rx_batch;
-      for (int i = 0; i < cap; ++i) {
-        const auto k = std::size_t(i);
-        rx_iov_[k] = iovec{&rx_[k], sizeof(can_frame)};
-        rx_msgs_[k] = mmsghdr{};
-        msghdr& h = rx_msgs_[k].msg_hdr;
-        h.msg_iov = &rx_iov_[k];
-        h.msg_iovlen = 1;
-        h.msg_control = &rx_ctrl_[k * kRxCtrl];
-        h.msg_controllen = kRxCtrl;
+      for (int i = 0; i < rx_filled_; ++i) {
+        mmsghdr& m = rx_msgs_[std::size_t(i)];
+        m.msg_len = 0;
+        m.msg_hdr.msg_flags = 0;
+        m.msg_hdr.msg_controllen = kRxCtrl;
       }
+      rx_filled_ = 0;
       ++receive_calls_;
       const int r =
           ::recvmmsg(fd_, rx_msgs_.get(), static_cast<unsigned>(cap), MSG_DONTWAIT, nullptr);
@@ -335,6 +343,7 @@ bool SocketCanBus::receive(CanFrame& out) {
         if (r < 0 && (errno == ENETDOWN || errno == ENODEV || errno == ENXIO)) note_down();
         return false;
       }
+      rx_filled_ = r;
       rx_n_ = r;
       rx_drained_ = r < cap;
     }

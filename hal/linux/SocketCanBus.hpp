@@ -132,6 +132,8 @@ class SocketCanBus final : public CanBus {
   std::unique_ptr<iovec[]> rx_iov_;
   std::unique_ptr<char[]> rx_ctrl_;  // rx_batch control buffers of kRxCtrl bytes, aligned
   int rx_n_ = 0, rx_next_ = 0;
+  int rx_filled_ =
+      0;  // messages the last recvmmsg wrote into (their lengths reset before the next)
   bool rx_drained_ = false;  // the last batch emptied the kernel's queue
   std::uint64_t receive_calls_ = 0;
   CanBusCounters counters_{};
