@@ -17,11 +17,11 @@ for ((k = 0; k < ${CARRIL_HIL_LOAD:-0}; k++)); do
 done
 [ ${#load_pids[@]} -gt 0 ] && echo "hil_test: ${#load_pids[@]} busy processes load the host"
 # CARRIL_HIL_KEEP=1 keeps the run's folder (captures, logs, summaries) and prints its path.
-if [ "${CARRIL_HIL_KEEP:-0}" = 1 ]; then
-  trap 'kill "${load_pids[@]}" 2>/dev/null; echo "hil_test: kept $out"' EXIT
-else
-  trap 'kill "${load_pids[@]}" 2>/dev/null; rm -rf "$out"' EXIT
-fi
+finish() {
+  [ ${#load_pids[@]} -gt 0 ] && kill "${load_pids[@]}" 2>/dev/null
+  if [ "${CARRIL_HIL_KEEP:-0}" = 1 ]; then echo "hil_test: kept $out"; else rm -rf "$out"; fi
+}
+trap finish EXIT
 bash "$here/uml_run.sh" --vcan 1 --timeout 300 -- bash "$here/hil_inside.sh" "$sim" "$ctl" "$src" \
   "$out" "$lap_s"
 rc=$?

@@ -93,13 +93,21 @@ TEST(SocketCanBusTest, BadNameAndBadSizesAreRefused) {
 
 constexpr const char* kVcan = "vcan0";
 
-std::unique_ptr<SocketCanBus> open_vcan(std::string& why, bool own = false) {
+SocketCanBus::Config vcan_config(bool own = false) {
   SocketCanBus::Config c;
   c.iface = kVcan;
   c.receive_own = own;
+  return c;
+}
+
+std::unique_ptr<SocketCanBus> open_vcan(std::string& why, const SocketCanBus::Config& c) {
   SocketCanBus::OpenResult r = SocketCanBus::open(c);
   why = r.error + " (the vcan tests run in CTest hil_socketcan: tools/uml/uml_run.sh --vcan 1)";
   return std::move(r.bus);
+}
+
+std::unique_ptr<SocketCanBus> open_vcan(std::string& why, bool own = false) {
+  return open_vcan(why, vcan_config(own));
 }
 
 // The kernel delivers a vcan frame from its softirq, which a loaded machine may defer past the
@@ -112,6 +120,7 @@ bool wait_receive(SocketCanBus& bus, CanFrame& out, int timeout_ms = 1000) {
   }
 }
 
+// OPEN_VCAN_OR_SKIP(bus), (bus, receive_own) or (bus, config): a vcan0 socket, or a skip.
 #define OPEN_VCAN_OR_SKIP(var, ...)               \
   std::string var##_why;                          \
   auto var = open_vcan(var##_why, ##__VA_ARGS__); \
@@ -229,8 +238,7 @@ TEST(SocketCanBusTest, VcanReceiveQueueOverrunIsCounted) {
   for (const int rx_batch : {1, 16}) {
     SCOPED_TRACE("rx_batch " + std::to_string(rx_batch));
     OPEN_VCAN_OR_SKIP(a);
-    SocketCanBus::Config c;
-    c.iface = kVcan;
+    SocketCanBus::Config c = vcan_config();
     c.rx_batch = rx_batch;
     SocketCanBus::OpenResult rb = SocketCanBus::open(c);
     ASSERT_TRUE(rb.bus) << rb.error;
@@ -283,14 +291,11 @@ TEST(SocketCanBusTest, VcanInterfaceDownIsReportedAndReopenRecovers) {
 }
 
 TEST(SocketCanBusTest, VcanBatchedFramesLeaveTogetherAtFlushInOrder) {
-  std::string why;
-  SocketCanBus::Config c;
-  c.iface = kVcan;
+  SocketCanBus::Config c = vcan_config();
   c.tx_batch = 8;
-  SocketCanBus::OpenResult ra = SocketCanBus::open(c);
-  if (!ra.bus) GTEST_SKIP() << ra.error << " (the vcan tests run in CTest hil_socketcan)";
+  OPEN_VCAN_OR_SKIP(ra, c);
   OPEN_VCAN_OR_SKIP(b);
-  SocketCanBus& a = *ra.bus;
+  SocketCanBus& a = *ra;
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(a.send(frame(0x200U + std::uint32_t(i), 2, 6)));
   CanFrame got;
   // Gathered, not sent: nothing on the bus before flush().
@@ -319,13 +324,11 @@ TEST(SocketCanBusTest, VcanBatchedFramesLeaveTogetherAtFlushInOrder) {
 // rx_batch: the frames queued in the kernel come out of one recvmmsg, in order; a drain ends
 // without asking the kernel again, and the next call does ask it.
 TEST(SocketCanBusTest, VcanBatchedReceiveTakesTheQueueInOneCallInOrder) {
-  SocketCanBus::Config c;
-  c.iface = kVcan;
+  SocketCanBus::Config c = vcan_config();
   c.rx_batch = 16;
-  SocketCanBus::OpenResult rb = SocketCanBus::open(c);
-  if (!rb.bus) GTEST_SKIP() << rb.error << " (the vcan tests run in CTest hil_socketcan)";
+  OPEN_VCAN_OR_SKIP(rb, c);
   OPEN_VCAN_OR_SKIP(a);
-  SocketCanBus& b = *rb.bus;
+  SocketCanBus& b = *rb;
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(a->send(frame(0x500U + std::uint32_t(i))));
   // All ten queued at b before it reads (vcan delivers from a softirq: wait for the last one).
   pollfd p{b.fd(), POLLIN, 0};

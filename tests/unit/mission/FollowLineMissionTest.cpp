@@ -18,28 +18,23 @@ struct Rig {
   FollowLineMission mission{cfg, Footprint{0.25, 0.25}, false, true, odom, line, obstacles};
   MissionContext ctx;
 
-  // A frame showing straight tape from 0.3 m to 1.2 m ahead, on the centre line.
-  void see_tape(hal::TimeNs t) {
+  // A frame whose tape runs straight from `from` to `to` (robot frame) in `n` steps; `sure`: a
+  // blob large enough to be tape on its own, otherwise a piece.
+  void see(hal::TimeNs t, const Vec2& from, const Vec2& to, int n, bool sure) {
     LineObservation& o = line.edit();
     o.detection.detected = true;
-    o.detection.sure = true;
+    o.detection.sure = sure;
     o.detection.centerline_floor.clear();
-    for (int i = 0; i < 10; ++i) o.detection.centerline_floor.push_back(Vec2(0.3 + 0.1 * i, 0.0));
+    for (int i = 0; i <= n; ++i) {
+      o.detection.centerline_floor.push_back(from + (to - from) * (double(i) / n));
+    }
     o.pose = odom.get().pose;
     line.publish(t);
   }
-  // A frame whose only tape is a piece smaller than tape on its own, from `from` to `to` (robot
-  // frame), and nothing else.
-  void see_piece(hal::TimeNs t, const Vec2& from, const Vec2& to) {
-    LineObservation& o = line.edit();
-    o.detection.detected = true;
-    o.detection.sure = false;
-    o.detection.centerline_floor.clear();
-    for (int i = 0; i <= 3; ++i)
-      o.detection.centerline_floor.push_back(from + (to - from) * (i / 3.0));
-    o.pose = odom.get().pose;
-    line.publish(t);
-  }
+  // Straight tape from 0.3 m to 1.2 m ahead, on the centre line, 10 points.
+  void see_tape(hal::TimeNs t) { see(t, Vec2(0.3, 0.0), Vec2(1.2, 0.0), 9, true); }
+  // Only a piece smaller than tape on its own, 4 points.
+  void see_piece(hal::TimeNs t, const Vec2& from, const Vec2& to) { see(t, from, to, 3, false); }
   MissionOutput step(double t_s) {
     ctx.t_s = t_s;
     ctx.dt_s = 0.01;
