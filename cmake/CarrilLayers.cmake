@@ -31,6 +31,10 @@ function(carril_firmware_layer name)
   endforeach()
   list(REMOVE_DUPLICATES folders)
   set_property(GLOBAL PROPERTY carril_layer_folders_${name} ${folders})
+  # "<name>:<dep>,<dep>" in declaration order, for the test that checks docs/architecture.md's
+  # layer table against the build (tests/unit/app/LayersDocTest.cpp).
+  string(REPLACE ";" "," dep_list "${L_DEPENDS}")
+  set_property(GLOBAL APPEND PROPERTY carril_firmware_layers "${name}:${dep_list}")
   carril_include_tree(fw_${name} hal ${folders})
   set(tree ${CMAKE_BINARY_DIR}/include-trees/fw_${name})
   set(deps)

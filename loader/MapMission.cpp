@@ -19,6 +19,15 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
   l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
   l.lidar_mount = {c.lidar.x_m, c.lidar.y_m, c.lidar.yaw_rad};
   l.mcl.laser_max_range_m = robot.lidar.range_max_m;
+  // The robot file's model of its lidar and odometry (the firmware's defaults where it is silent).
+  const LocalisationModelSpec& m = robot.localisation;
+  l.mcl.sigma_hit_m = m.sigma_hit_m.value_or(l.mcl.sigma_hit_m);
+  l.mcl.beam_correlation = m.beam_correlation.value_or(l.mcl.beam_correlation);
+  l.mcl.alpha1 = m.alpha1.value_or(l.mcl.alpha1);
+  l.mcl.alpha2 = m.alpha2.value_or(l.mcl.alpha2);
+  l.mcl.alpha3 = m.alpha3.value_or(l.mcl.alpha3);
+  l.mcl.alpha4 = m.alpha4.value_or(l.mcl.alpha4);
+  l.mcl.surface_distance = m.surface_distance.value_or(l.mcl.surface_distance);
   // Random injection can trade a right estimate for a wrong one in a symmetric building: only
   // when asked (a robot that may be carried elsewhere).
   if (!start.recovery) l.mcl.alpha_fast = l.mcl.alpha_slow = 0.0;
@@ -35,6 +44,9 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
     // filter sees more of the building in its minute; at 0.3 rad/s (21 s a turn) fewer seeds
     // relocalised and more converged wrong first (docs/robustness.md, stop 38).
     l.search_while_unlocalised = true;
+    l.mcl.search_sigma_hit_m = m.search_sigma_hit_m.value_or(l.mcl.search_sigma_hit_m);
+    l.mcl.search_beam_correlation =
+        m.search_beam_correlation.value_or(l.mcl.search_beam_correlation);
     c.runner.lost_turn_radps = 1.0;
     // Still lost after a whole turn (a view that fits several alike places), it drives 2 m legs
     // toward open space at a walking pace and looks round again.

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "firmware/estimation/MclConfig.hpp"
+#include "firmware/kinematics/DriveKinematics.hpp"
 #include "loader/RobotSections.hpp"
 
 namespace carril::loader {
@@ -15,8 +17,8 @@ using strict::Range;
 // Physical bounds: every accepted value gives a finite, non-degenerate simulation and a valid
 // firmware configuration. docs/configuration.md lists them all.
 const Range kYawDeg = Range::closed(-360.0, 360.0);
-const Range kMount = Range::closed(-5.0, 5.0);      // sensor mount offsets [m]
-const Range kWheelSize = Range::closed(0.05, 5.0);  // wheelbase, track [m]
+const Range kMount = Range::closed(-5.0, 5.0);  // sensor mount offsets [m]
+const Range kWheelSize = Range::closed(fw::kWheelSpanMinM, fw::kWheelSpanMaxM);  // the firmware's
 
 // Derived camera rules: the top image row looks at least this far below the horizon, and the
 // optical axis meets the floor within this distance.
@@ -214,10 +216,37 @@ void parse_terrain_limits(const Node& m, TerrainLimitsSpec& t, bool all) {
 
 namespace {
 
+// One field of the localisation model: its range is the firmware's own (MclConfig::validate()),
+// checked here so that the error names this file, line and key.
+void model_field(const Node& m, const char* key, std::optional<double>& out,
+                 double fw::MclConfig::*field) {
+  auto n = m.get(key);
+  if (!n) return;
+  fw::MclConfig c;
+  c.*field = n->number();
+  if (const fw::Status s = c.validate(); !s) n->fail(s.message());
+  out = c.*field;
+}
+
+void parse_localisation_model(const Node& m, LocalisationModelSpec& l) {
+  m.expect_map({"sigma_hit_m", "beam_correlation", "alpha1", "alpha2", "alpha3", "alpha4",
+                "surface_distance", "search_sigma_hit_m", "search_beam_correlation"});
+  model_field(m, "sigma_hit_m", l.sigma_hit_m, &fw::MclConfig::sigma_hit_m);
+  model_field(m, "beam_correlation", l.beam_correlation, &fw::MclConfig::beam_correlation);
+  model_field(m, "alpha1", l.alpha1, &fw::MclConfig::alpha1);
+  model_field(m, "alpha2", l.alpha2, &fw::MclConfig::alpha2);
+  model_field(m, "alpha3", l.alpha3, &fw::MclConfig::alpha3);
+  model_field(m, "alpha4", l.alpha4, &fw::MclConfig::alpha4);
+  if (auto n = m.get("surface_distance")) l.surface_distance = n->boolean();
+  model_field(m, "search_sigma_hit_m", l.search_sigma_hit_m, &fw::MclConfig::search_sigma_hit_m);
+  model_field(m, "search_beam_correlation", l.search_beam_correlation,
+              &fw::MclConfig::search_beam_correlation);
+}
+
 RobotSpec parse_preset(const Node& root) {
   root.expect_map({"name", "drive", "body", "wheels", "cruise_speed_mps", "control_rate_hz",
                    "camera", "lidar", "imu", "limits", "traversability", "terrain_limits",
-                   "lidar3d"});
+                   "lidar3d", "localisation"});
   RobotSpec r;
   r.preset = strict::parse_name(root.at("name"));
   r.drive = root.at("drive").one_of({"mecanum", "differential"}) == "mecanum"
@@ -237,7 +266,8 @@ RobotSpec parse_preset(const Node& root) {
   }
   const Node wheels = root.at("wheels");
   wheels.expect_map({"radius_m", "wheelbase_m", "track_m"});
-  r.wheel_radius_m = wheels.at("radius_m").number(Range::closed(0.01, 1.0));
+  r.wheel_radius_m =
+      wheels.at("radius_m").number(Range::closed(fw::kWheelRadiusMinM, fw::kWheelRadiusMaxM));
   r.wheelbase_m = wheels.at("wheelbase_m").number(kWheelSize);
   r.track_m = wheels.at("track_m").number(kWheelSize);
   r.control_rate_hz = root.at("control_rate_hz").number(Range::closed(10.0, 1000.0));
@@ -259,6 +289,7 @@ RobotSpec parse_preset(const Node& root) {
   parse_limits(root.at("limits"), r.limits, true);
   parse_traversability(root.at("traversability"), r.traversability, true);
   parse_terrain_limits(root.at("terrain_limits"), r.terrain_limits, true);
+  if (auto l = root.get("localisation")) parse_localisation_model(*l, r.localisation);
   const Node cruise = root.at("cruise_speed_mps");
   r.cruise_speed_mps = cruise.number(Range::closed(0.01, 5.0));
   if (r.cruise_speed_mps > r.limits.max_speed_mps) {

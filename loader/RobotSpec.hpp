@@ -5,6 +5,7 @@
 // Robot frame: x forward, y left, z up, origin at the body centre on the floor.
 // The defaults below only fill what a file leaves out where the format allows it (a lidar that is
 // not fitted); every value of a real robot comes from its file.
+#include <optional>
 #include <string>
 
 namespace carril::loader {
@@ -36,9 +37,9 @@ struct LidarSpec {
   // How far it sees what the protective fields must see (a dark, matt person's legs): its
   // datasheet's range at low remission; 0 in the file: range_max_m [m].
   double reliable_range_m = 0.0;
-  double rate_hz = 20.0;        // [Hz]
-  double noise_std_m = 0.0;     // Gaussian range noise [m]
-  double dropout = 0.0;  // simulated: fraction of beams with no return, drawn per beam [-]
+  double rate_hz = 20.0;     // [Hz]
+  double noise_std_m = 0.0;  // Gaussian range noise [m]
+  double dropout = 0.0;      // simulated: fraction of beams with no return, drawn per beam [-]
 };
 
 // A 3D lidar (e.g. a Velodyne HDL-32E): `rings` beams evenly spread over
@@ -94,6 +95,18 @@ struct TerrainLimitsSpec {
 
 // A robot description (config/robots/<name>.yaml); in the simulator, after the scenario's
 // overrides are applied.
+// `localisation:` (optional): how Monte Carlo localisation models this robot's lidar and odometry
+// on a map (fw::MclConfig's fields of the same names). A key left out keeps the firmware's
+// default. Both targets read it from the robot file: the simulator runs the model the robot runs.
+struct LocalisationModelSpec {
+  std::optional<double> sigma_hit_m;                     // hit spread of the tracking model [m]
+  std::optional<double> beam_correlation;                // [-]
+  std::optional<double> alpha1, alpha2, alpha3, alpha4;  // odometry noise (AMCL's alphas)
+  std::optional<bool> surface_distance;           // distances to the walls' faces, not centres
+  std::optional<double> search_sigma_hit_m;       // the search model's hit spread [m]
+  std::optional<double> search_beam_correlation;  // [-]
+};
+
 struct RobotSpec {
   std::string preset;       // the file's `name`: campero | pioneer3at | ...
   std::string source_path;  // the file it was read from ("" when not read from a file)
@@ -115,6 +128,7 @@ struct RobotSpec {
   LimitsSpec limits;
   TraversabilitySpec traversability;
   TerrainLimitsSpec terrain_limits;
+  LocalisationModelSpec localisation;
   Pose2 start;  // set by a scenario; the robot target leaves it at the origin
 };
 

@@ -214,6 +214,16 @@ const Field kFields[] = {
     CARRIL_NUMBER(Tuning, "watch.scanner_timeout_s", "watch.scanner_timeout_s",
                   watch.scanner_timeout_s),
     CARRIL_NUMBER(Tuning, "watch.imu_timeout_s", "watch.imu_timeout_s", watch.imu_timeout_s),
+    // The task table's budgets (Firmware::declare_tasks, both targets).
+    CARRIL_NUMBER(Tuning, "tasks.health_us", "tasks.health_us", tasks.health_us),
+    CARRIL_NUMBER(Tuning, "tasks.odometry_us", "tasks.odometry_us", tasks.odometry_us),
+    CARRIL_NUMBER(Tuning, "tasks.localisation_us", "tasks.localisation_us", tasks.localisation_us),
+    CARRIL_NUMBER(Tuning, "tasks.perception_us", "tasks.perception_us", tasks.perception_us),
+    CARRIL_NUMBER(Tuning, "tasks.obstacles_us", "tasks.obstacles_us", tasks.obstacles_us),
+    CARRIL_NUMBER(Tuning, "tasks.mapping_us", "tasks.mapping_us", tasks.mapping_us),
+    CARRIL_NUMBER(Tuning, "tasks.mission_us", "tasks.mission_us", tasks.mission_us),
+    CARRIL_NUMBER(Tuning, "tasks.motion_us", "tasks.motion_us", tasks.motion_us),
+    CARRIL_NUMBER(Tuning, "tasks.telemetry_us", "tasks.telemetry_us", tasks.telemetry_us),
     // The one motion limit the robot description does not carry.
     CARRIL_NUMBER(Tuning, "limits.max_yaw_accel_radps2", "limits.max_yaw_accel_radps2",
                   limits.max_yaw_accel_radps2),

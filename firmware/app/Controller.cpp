@@ -12,17 +12,19 @@ bool usable_rate(double hz) {
 }  // namespace
 
 Controller::Controller(const hal::Clock& clock, double tick_rate_hz, Topic<SensorFrame>& frame,
-                       const Topic<ActuatorCommand>& command, MissionRunner& runner)
+                       const Topic<ActuatorCommand>& command, MissionStateSource& mission)
     : clock_(clock),
       period_s_(usable_rate(tick_rate_hz) ? 1.0 / tick_rate_hz : 0.0),
       frame_(frame),
       command_(command),
-      runner_(runner),
+      mission_(mission),
       throttle_(events_, kEventsPerSecond, 1'000'000'000),
       tasks_("controller tasks"),
       tick_budget_ns_(usable_rate(tick_rate_hz) ? static_cast<std::int64_t>(0.5e9 / tick_rate_hz)
                                                 : 0) {
   init_ = tasks_.init(tick_rate_hz, &throttle_);
+  // Checks that failed before this controller existed belong to someone else (another test).
+  checks_seen_ = check_failures().count;
 }
 
 Status Controller::add_task(const TaskSpec& spec) {
@@ -43,7 +45,7 @@ Status Controller::check() const {
 }
 
 const char* Controller::state_name() const {
-  return fault_ != Fault::None ? "FAULT" : runner_.state().name;
+  return fault_ != Fault::None ? "FAULT" : mission_.state().name;
 }
 
 ActuatorCommand Controller::tick(const SensorFrame& frame) {
@@ -51,9 +53,9 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
   now_ns_ = frame.now_ns;
   frame_.publish(frame, frame.now_ns);
   const bool faulted_before = latched();
-  const MissionState before = runner_.state();
+  const MissionState before = mission_.state();
   tasks_.run(tick_, frame.now_ns, clock_);
-  const MissionState after = runner_.state();
+  const MissionState after = mission_.state();
   log_phase_change(frame.now_ns, after);
   if (latched() != faulted_before || after.id != before.id) {
     Event e;
@@ -62,6 +64,12 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
     e.from = faulted_before ? "FAULT" : before.name;
     e.to = latched() ? "FAULT" : after.name;
     throttle_.push(e);
+  }
+  // A check failed anywhere (in a task, or in another thread of this process): a programming
+  // error, and the robot stops.
+  if (const CheckFailures c = check_failures(); c.count != checks_seen_) {
+    checks_seen_ = c.count;
+    raise(Fault::CheckFailed, static_cast<std::uint16_t>(c.line));
   }
   ++tick_;
   const hal::TimeNs dt = clock_.cpu_now_ns() - t0;
@@ -76,15 +84,13 @@ ActuatorCommand Controller::tick(const SensorFrame& frame) {
   ActuatorCommand cmd = command_.get();
   if (latched()) {
     // The latch has the last word, whatever a task left behind.
-    cmd.drive = DriveRequest::QuickStop;
-    cmd.wheel_radps.fill(0.0F);
-    cmd.twist = {};
+    quick_stop(cmd);
   }
   return cmd;
 }
 
 void Controller::log_phase_change(hal::TimeNs t_ns, const MissionState& now) {
-  if (const char* phase = runner_.take_phase_change()) {
+  if (const char* phase = mission_.take_phase_change()) {
     Event e;
     e.t_ns = t_ns;
     e.kind = EventKind::Phase;
@@ -96,7 +102,7 @@ void Controller::log_phase_change(hal::TimeNs t_ns, const MissionState& now) {
 
 void Controller::raise(Fault f, std::uint16_t code, const char* in_state) {
   if (fault_ != Fault::None) return;  // the first fault is the one reported
-  const char* was = in_state != nullptr ? in_state : runner_.state().name;
+  const char* was = in_state != nullptr ? in_state : mission_.state().name;
   fault_ = f;
   ++fault_counts_[std::size_t(f)];
   Event e;
@@ -120,12 +126,13 @@ void Controller::fill_telemetry(ControllerTelemetry& t) const {
   t.tick_max_us = tick_stats_.max_us();
   t.tasks.clear();
   for (std::size_t i = 0; i < tasks_.size(); ++i) t.tasks.push_back(tasks_.counters(i));
-  const MissionState ms = runner_.state();
+  const MissionState ms = mission_.state();
   t.state = state_name();
   t.phase = ms.phase;
   t.status = fault_ != Fault::None ? MissionStatus::Failed : ms.status;
   t.fault = fault_;
   t.fault_counts = fault_counts_;
+  t.checks_failed = check_failures().count;
   t.events_dropped = events_.dropped();
   t.events_throttled = throttle_.throttled();
   t.has_first_fault = fault_ != Fault::None;

@@ -2,23 +2,25 @@
 // The firmware's fixed-rate core, reduced to two jobs: run the schedule (the task table the
 // target's wiring file declares) and arbitrate faults (the first one latches, is logged and
 // counted, and turns every command into a quick stop). What the robot does is decided by the
-// components the tasks run; they exchange messages on the data bus (LineBus).
+// components the tasks run; they exchange messages on the data bus (Bus).
 // A tick allocates nothing, blocks on nothing and makes no OS call (the clock is read only to
 // time tasks).
 #include <array>
 #include <cstdint>
 #include <span>
 
+#include "firmware/core/Check.hpp"
 #include "firmware/core/Event.hpp"
 #include "firmware/core/EventLog.hpp"
 #include "firmware/core/EventThrottle.hpp"
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/LatencyStats.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/TaskTable.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/mission/MissionRunner.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/MissionState.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 #include "hal/Clock.hpp"
 
 namespace carril::fw {
@@ -35,6 +37,7 @@ struct ControllerTelemetry {
   MissionStatus status = MissionStatus::Starting;
   Fault fault = Fault::None;  // latched fault, if any
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts{};
+  std::uint32_t checks_failed = 0;     // CARRIL_CHECKs failed in this process (CheckFailures)
   std::uint64_t events_dropped = 0;    // events overwritten before anyone read them
   std::uint64_t events_throttled = 0;  // non-fault events over kEventsPerSecond, only counted
   bool has_first_fault = false;        // first_fault holds the fault that latched
@@ -50,7 +53,7 @@ class Controller final : public FaultSink {
 
   // frame: published by tick() for the tasks; command: what the tasks leave for the drives.
   Controller(const hal::Clock& clock, double tick_rate_hz, Topic<SensorFrame>& frame,
-             const Topic<ActuatorCommand>& command, MissionRunner& runner);
+             const Topic<ActuatorCommand>& command, MissionStateSource& mission);
   Controller(const Controller&) = delete;
   Controller& operator=(const Controller&) = delete;
 
@@ -97,7 +100,7 @@ class Controller final : public FaultSink {
   Status init_;
   Topic<SensorFrame>& frame_;
   const Topic<ActuatorCommand>& command_;
-  MissionRunner& runner_;
+  MissionStateSource& mission_;  // the running mission's state (the MissionRunner)
   Events events_;
   EventThrottle throttle_;  // every event goes through it into events_
   Event first_fault_;
@@ -109,6 +112,7 @@ class Controller final : public FaultSink {
   std::uint32_t overrun_limit_ = 0;    // 0: off
   std::uint32_t overruns_in_row_ = 0;  // consecutive overrun ticks
   bool missed_deadline_ = false;       // set by the loop for the next tick
+  std::uint32_t checks_seen_ = 0;      // CheckFailures::count at the last tick
   hal::TimeNs now_ns_ = 0;
   Fault fault_ = Fault::None;
   std::array<std::uint32_t, std::size_t(Fault::Count)> fault_counts_{};

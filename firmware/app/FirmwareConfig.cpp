@@ -5,6 +5,20 @@
 
 namespace carril::fw {
 
+Status TaskBudgets::validate() const {
+  return Checks("tasks")
+      .range("health_us", health_us, 1.0, 1e6, "us")
+      .range("odometry_us", odometry_us, 1.0, 1e6, "us")
+      .range("localisation_us", localisation_us, 1.0, 1e6, "us")
+      .range("perception_us", perception_us, 1.0, 1e6, "us")
+      .range("obstacles_us", obstacles_us, 1.0, 1e6, "us")
+      .range("mapping_us", mapping_us, 1.0, 1e6, "us")
+      .range("mission_us", mission_us, 1.0, 1e6, "us")
+      .range("motion_us", motion_us, 1.0, 1e6, "us")
+      .range("telemetry_us", telemetry_us, 1.0, 1e6, "us")
+      .result();
+}
+
 Status FirmwareConfig::validate() const {
   Checks c("robot");
   c.range("control_rate_hz", rate_hz, 1.0, 10000.0, "Hz")
@@ -16,7 +30,8 @@ Status FirmwareConfig::validate() const {
       .nested(watch.validate())
       .nested(runner.validate())
       .nested(follow_line.validate())
-      .nested(mapping.validate());
+      .nested(mapping.validate())
+      .nested(tasks.validate());
   if (mission == MissionKind::Goto) {
     c.nested(goto_mission.validate())
         .fail_if(!mapping.enabled, "mapping.enabled",

@@ -3,12 +3,12 @@
 // description (rates, geometry, limits, sensor mounts) and each component's own config struct.
 // The loader (loader/) fills it from config/robots/*.yaml and the mission file; validate() checks
 // every field, and its error names the field, the value, its unit and the range.
-#include "firmware/app/Localisation.hpp"
-#include "firmware/app/Mapping.hpp"
 #include "firmware/control/MotionLimiter.hpp"
 #include "firmware/core/Status.hpp"
+#include "firmware/estimation/Localisation.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
+#include "firmware/mapping/Mapping.hpp"
 #include "firmware/mission/CoverageMission.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
@@ -20,6 +20,24 @@
 namespace carril::fw {
 
 enum class MissionKind : std::uint8_t { FollowLine, Goto, Waypoints, Coverage };
+
+// Each task's compute budget: a run over it is an overrun, counted and reported as a throttled
+// event (TaskTable). The same on both targets: Firmware::declare_tasks() is the one task table.
+// [us]
+struct TaskBudgets {
+  double health_us = 20.0;
+  double odometry_us = 20.0;
+  double localisation_us = 250.0;
+  double perception_us = 400.0;
+  double obstacles_us = 60.0;
+  double mapping_us = 400.0;
+  double mission_us = 300.0;  // goto's and coverage's plans are spread over ticks within it
+  double motion_us = 20.0;
+  double telemetry_us = 50.0;
+
+  Status validate() const;
+  bool operator==(const TaskBudgets&) const = default;
+};
 
 struct FirmwareConfig {
   double rate_hz = 100.0;  // control tick [Hz]
@@ -41,12 +59,16 @@ struct FirmwareConfig {
   WaypointConfig waypoints;         // waypoints: the course's targets, followed with VFF
   MappingConfig mapping;            // the costmap (goto plans on it, follow_line avoids with it)
   LocalisationConfig localisation;  // on a known map: where the robot starts, how it localises
+  TaskBudgets tasks;                // the task table's budgets
   // The static map (the building), owned by the target's wiring file, which keeps it alive as
   // long as the firmware; nullptr without one. Set: the costmap and the missions work in its
   // frame, and localisation.enabled must be set.
   const OccupancyGrid* map = nullptr;
 
   Status validate() const;
+  // Member by member (map: the same grid object). Two targets configured alike from the same
+  // files compare equal (tests/scenario/ConfiguredAlikeTest).
+  bool operator==(const FirmwareConfig&) const = default;
   Footprint footprint() const { return {0.5 * footprint_length_m, 0.5 * footprint_width_m}; }
 };
 

@@ -7,9 +7,9 @@
 
 #include "firmware/core/Faults.hpp"
 #include "firmware/core/Geometry.hpp"
-#include "firmware/core/TripleBuffer.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "hal/Console.hpp"
+#include "hal/TripleBuffer.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -31,7 +31,7 @@ struct StatusSnapshot {
 
 class StatusReporter {
  public:
-  StatusReporter(TripleBuffer<StatusSnapshot>& in, hal::Console& out) : in_(in), out_(out) {}
+  StatusReporter(hal::TripleBuffer<StatusSnapshot>& in, hal::Console& out) : in_(in), out_(out) {}
 
   // Slow task: writes the newest snapshot, if there is a new one, as one line.
   void run();
@@ -41,7 +41,7 @@ class StatusReporter {
   static void format(const StatusSnapshot& s, char* buf, std::size_t n);
 
  private:
-  TripleBuffer<StatusSnapshot>& in_;
+  hal::TripleBuffer<StatusSnapshot>& in_;
   hal::Console& out_;
   std::uint64_t lines_ = 0;
 };

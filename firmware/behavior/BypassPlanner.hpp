@@ -6,10 +6,10 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 
 namespace carril::fw {
 
@@ -27,6 +27,7 @@ struct AvoidConfig {
   double lookahead_m = 2.0;
 
   Status validate() const;
+  bool operator==(const AvoidConfig&) const = default;
 };
 
 struct BypassPlan {

@@ -10,7 +10,7 @@
 #include "firmware/control/PathTracker.hpp"
 #include "firmware/core/Faults.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 #include "firmware/perception/TapeMap.hpp"
 
 namespace carril::fw {
@@ -75,6 +75,7 @@ struct BehaviorConfig {
   AvoidConfig avoid;
 
   Status validate() const;
+  bool operator==(const BehaviorConfig&) const = default;
 };
 
 // One tick's view of the world, assembled by FollowLineMission from the data bus.

@@ -35,6 +35,7 @@ struct LaneFollowerConfig {
   double period_s = 0.01;  // between update() calls (the braking allows a period's lag) [s]
 
   Status validate() const;
+  bool operator==(const LaneFollowerConfig&) const = default;
 };
 
 class LaneFollower {

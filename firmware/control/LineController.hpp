@@ -35,6 +35,7 @@ inline const char* strategy_name(Strategy s) {
 struct PidGains {
   double kp = 0.0, ki = 0.0, kd = 0.0;  // on the normalised error [rad/s per unit]
   double speed_mps = 0.5;               // [m/s]
+  bool operator==(const PidGains&) const = default;
 };
 
 struct StrategyConfig {
@@ -61,6 +62,7 @@ struct StrategyConfig {
   double max_yaw_rate_radps = 1.2;     // [rad/s]
 
   Status validate() const;
+  bool operator==(const StrategyConfig&) const = default;
 };
 
 class LineController {

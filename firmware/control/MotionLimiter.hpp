@@ -15,6 +15,7 @@ struct MotionLimits {
   double max_wheel_speed_radps = 10.0;  // [rad/s]
 
   Status validate() const;
+  bool operator==(const MotionLimits&) const = default;
 };
 
 class MotionLimiter {

@@ -18,9 +18,7 @@ void MotionOutput::run() {
   const SensorFrame& f = frame_.get();
   ActuatorCommand& cmd = out_.edit();
   if (faults_.latched()) {
-    cmd.drive = DriveRequest::QuickStop;
-    cmd.wheel_radps.fill(0.0F);
-    cmd.twist = {};
+    quick_stop(cmd);
     limiter_.reset();
     ++tel_.quick_stops;
   } else {

@@ -5,11 +5,12 @@
 // latched, whatever was requested.
 #include <cstdint>
 #include "firmware/control/MotionLimiter.hpp"
-#include "firmware/control/MotionRequest.hpp"
+#include "firmware/msg/MotionRequest.hpp"
 
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Topic.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 namespace carril::fw {
 

@@ -16,6 +16,7 @@ struct PathTrackerConfig {
   double reached_m = 0.04;           // a waypoint is reached this close [m]
 
   Status validate() const;
+  bool operator==(const PathTrackerConfig&) const = default;
 };
 
 class PathTracker {

@@ -37,6 +37,7 @@ struct PurePursuitConfig {
   double turn_gain = 2.0;               // turn in place: yaw rate per radian of error [1/s]
 
   Status validate() const;
+  bool operator==(const PurePursuitConfig&) const = default;
 };
 
 class PurePursuitFollower {

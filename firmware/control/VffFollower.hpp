@@ -8,8 +8,8 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -34,6 +34,7 @@ struct VffConfig {
   double goal_tolerance_m = 0.05;   // at the end within this distance [m]
 
   Status validate() const;
+  bool operator==(const VffConfig&) const = default;
 };
 
 class VffFollower {

@@ -32,6 +32,8 @@ enum class Fault : std::uint8_t {
                        // deliberately waiting (turning in place at a fork, say)
   MotionBlocked,       // no safe motion (every turn, pivot or leg the robot needs is blocked
                        // on the costmap) for runner.blocked_timeout_s
+  CheckFailed,         // a programming error: a CARRIL_CHECK failed (the event's code is its
+                       // line; CheckFailures has the file)
   Count,
 };
 
@@ -79,6 +81,8 @@ inline const char* fault_name(Fault f) {
       return "stalled";
     case Fault::MotionBlocked:
       return "motion_blocked";
+    case Fault::CheckFailed:
+      return "check_failed";
     case Fault::Count:
       break;
   }

@@ -21,6 +21,7 @@ struct Twist {
 struct Pose2 {
   double x = 0.0, y = 0.0;  // [m]
   double yaw = 0.0;         // [rad]
+  bool operator==(const Pose2&) const = default;
 };
 
 inline double wrap_angle(double a) {

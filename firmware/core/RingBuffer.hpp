@@ -2,8 +2,9 @@
 // Fixed-capacity FIFO; when full, push overwrites the oldest element (newest data wins, as a
 // sensor history should). Never allocates.
 #include <array>
-#include <cassert>
 #include <cstddef>
+
+#include "firmware/core/Check.hpp"
 
 namespace carril::fw {
 
@@ -37,7 +38,7 @@ class RingBuffer {
   }
   // i = 0 is the oldest element, size()-1 the newest.
   constexpr const T& operator[](std::size_t i) const {
-    assert(i < size_);
+    CARRIL_CHECK(i < size_);  // the index wraps into the storage all the same
     return data_[(head_ + i) % N];
   }
   constexpr const T& newest() const { return (*this)[size_ - 1]; }

@@ -1,10 +1,13 @@
 #pragma once
-// Fixed-capacity vector: storage inline, never allocates. push_back on a full vector is a
-// programming error (assert) and is refused (returns false) in release builds; try_push_back is
-// for callers to whom a full vector is an input they handle (a path longer than its output).
+// Fixed-capacity vector: storage inline, never allocates. push_back on a full vector, an index
+// past size() and pop_back on an empty one are programming errors (CARRIL_CHECK: counted, the
+// robot stopped safely) that never touch memory outside the storage: the write is refused, the
+// index clamped. try_push_back is for callers to whom a full vector is an input they handle (a
+// path longer than its output).
 #include <array>
-#include <cassert>
 #include <cstddef>
+
+#include "firmware/core/Check.hpp"
 
 namespace carril::fw {
 
@@ -18,12 +21,11 @@ class StaticVector {
   constexpr void clear() { size_ = 0; }
   // Keeps the first n elements (n no more than size()).
   constexpr void truncate(std::size_t n) {
-    assert(n <= size_);
-    if (n < size_) size_ = n;
+    if (CARRIL_CHECK(n <= size_) && n < size_) size_ = n;
   }
 
   constexpr bool push_back(const T& v) {
-    assert(size_ < N && "StaticVector full");
+    if (!CARRIL_CHECK(size_ < N)) return false;  // full
     return try_push_back(v);
   }
   // Appends v; false, and nothing appended, when full.
@@ -33,15 +35,14 @@ class StaticVector {
     return true;
   }
   constexpr void pop_back() {
-    assert(size_ > 0);
-    if (size_ > 0) --size_;
+    if (CARRIL_CHECK(size_ > 0)) --size_;
   }
   constexpr T& operator[](std::size_t i) {
-    assert(i < size_);
+    if (!CARRIL_CHECK(i < size_)) return data_[clamped(i)];
     return data_[i];
   }
   constexpr const T& operator[](std::size_t i) const {
-    assert(i < size_);
+    if (!CARRIL_CHECK(i < size_)) return data_[clamped(i)];
     return data_[i];
   }
   constexpr T& back() { return (*this)[size_ - 1]; }
@@ -50,8 +51,19 @@ class StaticVector {
   constexpr T* end() { return data_.data() + size_; }
   constexpr const T* begin() const { return data_.data(); }
   constexpr const T* end() const { return data_.data() + size_; }
+  // The same elements in the same order (what lies past size() does not count).
+  constexpr bool operator==(const StaticVector& o) const {
+    if (size_ != o.size_) return false;
+    for (std::size_t i = 0; i < size_; ++i) {
+      if (!(data_[i] == o.data_[i])) return false;
+    }
+    return true;
+  }
 
  private:
+  static_assert(N > 0);
+  // A failed index's stand-in inside the storage.
+  static constexpr std::size_t clamped(std::size_t i) { return i < N ? i : N - 1; }
   std::array<T, N> data_{};
   std::size_t size_ = 0;
 };

@@ -44,6 +44,7 @@ struct AliasSearchConfig {
   double max_range_m = 12.0;  // returns at or beyond are not scored [m]
 
   Status validate() const;
+  bool operator==(const AliasSearchConfig&) const = default;
 };
 
 struct AliasResult {

@@ -63,6 +63,7 @@ struct MclConfig {
   Status validate() const;
   LikelihoodFieldConfig field() const;
   OdometryNoise noise() const { return {alpha1, alpha2, alpha3, alpha4}; }
+  bool operator==(const MclConfig&) const = default;
 };
 
 }  // namespace carril::fw

@@ -3,23 +3,13 @@
 // Reads the sensor frame, publishes the odometry pose and the measured body twist every tick.
 #include <cstdint>
 
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/estimation/Odometry.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 namespace carril::fw {
-
-// Odometry message: the robot in the odometry frame (origin where the firmware started).
-struct OdometryMsg {
-  Pose2 pose;   // [m, m, rad]
-  Twist twist;  // measured from wheel speeds [m/s, m/s, rad/s]
-  // The pose can be trusted in its frame (always for odometry; on a map, once localisation has
-  // converged and while it stays so).
-  bool localised = true;
-  // Times the localisation was regained after being lost: the pose may have jumped, so what was
-  // built from the old one (costmap marks, a plan) is suspect [count].
-  std::uint32_t relocalisations = 0;
-};
 
 struct WheelOdometryTelemetry {
   std::uint64_t updates = 0;      // encoder readings integrated

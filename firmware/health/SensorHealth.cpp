@@ -1,10 +1,10 @@
 #include "firmware/health/SensorHealth.hpp"
 
 #include <bit>
-#include <cassert>
 #include <cmath>
 #include <cstring>
 
+#include "firmware/core/Check.hpp"
 #include "firmware/core/Lanes.hpp"
 
 namespace carril::fw {
@@ -12,7 +12,7 @@ namespace carril::fw {
 // ---- Lidar ----
 
 ScanHealth::ScanHealth(const ScanHealthConfig& cfg) : cfg_(cfg) {
-  assert(cfg.window_scans >= 1 && cfg.window_scans <= kMaxWindow);
+  CARRIL_CHECK(cfg.window_scans >= 1 && cfg.window_scans <= kMaxWindow);
 }
 
 bool ScanHealth::add(const hal::LaserScan& scan) {

@@ -20,6 +20,7 @@ struct ScanHealthConfig {
   double min_valid_fraction = 0.05;  // fewer valid beams than this over the window: blind [0..1]
 
   Status validate() const;
+  bool operator==(const ScanHealthConfig&) const = default;
 };
 
 // Lidar: a beam is valid when it is a measurement: a range within [range_min, range_max], +inf
@@ -51,6 +52,7 @@ struct FrameHealthConfig {
   double frozen_turn_rad = 0.05;  // ... or this much turning [rad]
 
   Status validate() const;
+  bool operator==(const FrameHealthConfig&) const = default;
 };
 
 enum class FrameVerdict : std::uint8_t { Ok, Blank, Frozen };
@@ -81,6 +83,7 @@ struct ImuHealthConfig {
   double frozen_min_turn_change_radps = 0.2;  // odometry yaw rate change the IMU must follow
 
   Status validate() const;
+  bool operator==(const ImuHealthConfig&) const = default;
 };
 
 enum class ImuVerdict : std::uint8_t { Ok, OutOfRange, Frozen };

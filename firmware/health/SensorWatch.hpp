@@ -5,11 +5,12 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorHealth.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 namespace carril::fw {
 
@@ -21,6 +22,7 @@ struct SensorWatchConfig {
   ImuHealthConfig imu;
 
   Status validate() const;
+  bool operator==(const SensorWatchConfig&) const = default;
 };
 
 struct SensorWatchTelemetry {

@@ -59,9 +59,9 @@ namespace carril::fw {
 
 Status DriveGeometry::validate() const {
   return Checks("drive")
-      .range("wheel_radius_m", wheel_radius_m, 0.005, 2.0, "m")
-      .range("wheelbase_m", wheelbase_m, 0.0, 10.0, "m")
-      .range("track_m", track_m, 0.01, 10.0, "m")
+      .range("wheel_radius_m", wheel_radius_m, kWheelRadiusMinM, kWheelRadiusMaxM, "m")
+      .range("wheelbase_m", wheelbase_m, kWheelSpanMinM, kWheelSpanMaxM, "m")
+      .range("track_m", track_m, kWheelSpanMinM, kWheelSpanMaxM, "m")
       .fail_if(type == DriveType::Mecanum && !(wheelbase_m > 0.0), "wheelbase_m",
                "a mecanum robot needs a wheelbase > 0 m")
       .result();

@@ -12,6 +12,11 @@ namespace carril::fw {
 
 enum class DriveType : unsigned char { Differential, Mecanum };
 
+// The wheel geometry's ranges, declared once: the robot file's loader and validate() both take
+// them from here [m].
+inline constexpr double kWheelRadiusMinM = 0.01, kWheelRadiusMaxM = 1.0;
+inline constexpr double kWheelSpanMinM = 0.05, kWheelSpanMaxM = 5.0;  // wheelbase and track
+
 struct DriveGeometry {
   DriveType type = DriveType::Differential;
   double wheel_radius_m = 0.1;  // [m]
@@ -19,6 +24,7 @@ struct DriveGeometry {
   double track_m = 0.4;         // left-right wheel distance [m]
 
   Status validate() const;
+  bool operator==(const DriveGeometry&) const = default;
 };
 
 class DriveKinematics {

@@ -12,10 +12,10 @@
 #include <cstdint>
 #include <memory>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/mapping/ElevationCell.hpp"
 #include "firmware/mapping/Pose3Tracker.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "hal/PointCloud.hpp"
 
 namespace carril::fw {
@@ -40,6 +40,7 @@ struct ElevationConfig {
   bool use_imu_attitude = true;
 
   Status validate() const;
+  bool operator==(const ElevationConfig&) const = default;
 };
 
 class ElevationLayer {

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "firmware/mapping/RollingGrid.hpp"
+#include "firmware/core/RollingGrid.hpp"
 
 namespace carril::fw::grid {
 

@@ -1,11 +1,11 @@
 #include "firmware/mapping/InflationLayer.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 
+#include "firmware/core/Check.hpp"
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mapping/GridRay.hpp"
 
@@ -98,7 +98,7 @@ bool InflationLayer::init(const InflationConfig& cfg, int nx, int ny, double res
 }
 
 void InflationLayer::apply(const RollingGrid<std::uint8_t>& src, RollingGrid<std::uint8_t>& dst) {
-  assert(grid::same_window(src, dst) && src.nx() == nx_ && src.ny() == ny_);
+  if (!CARRIL_CHECK(grid::same_window(src, dst) && src.nx() == nx_ && src.ny() == ny_)) return;
   const int nx = nx_, ny = ny_, R = radius_;
   const auto cap = std::uint8_t(R + 1);
   const std::size_t unx = std::size_t(nx);

@@ -15,8 +15,8 @@
 #include <cstdint>
 #include <memory>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -26,6 +26,7 @@ struct InflationConfig {
   double cost_scaling_factor = 10.0;  // k in 252 exp(-k (d - inscribed)) [1/m]
 
   Status validate() const;
+  bool operator==(const InflationConfig&) const = default;
 };
 
 class InflationLayer {

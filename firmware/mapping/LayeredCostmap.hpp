@@ -8,10 +8,10 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/mapping/InflationLayer.hpp"
 #include "firmware/mapping/ObstacleLayer.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -25,6 +25,7 @@ struct CostmapConfig {
   Status validate() const;
   int nx() const;  // window width [cells]
   int ny() const;  // window height [cells]
+  bool operator==(const CostmapConfig&) const = default;
 };
 
 class LayeredCostmap {

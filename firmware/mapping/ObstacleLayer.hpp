@@ -24,8 +24,8 @@
 
 #include "firmware/core/BeamDirections.hpp"
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -38,6 +38,7 @@ struct ObstacleLayerConfig {
   double decay_s = 0.0;  // lethal cells not hit for this long become unknown; 0 off [s]
 
   Status validate() const;
+  bool operator==(const ObstacleLayerConfig&) const = default;
 };
 
 // What one update() did with the beams (for health counters and tests).

@@ -25,6 +25,7 @@ struct Pose3 {
 struct SensorMount {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
   double roll_rad = 0.0, pitch_rad = 0.0, yaw_rad = 0.0;
+  bool operator==(const SensorMount&) const = default;
 };
 
 // Rotation of a body with this attitude, body frame to odometry frame [rad].

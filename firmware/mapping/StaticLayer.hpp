@@ -6,8 +6,8 @@
 // centre) but must share the resolution.
 #include <cstdint>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 

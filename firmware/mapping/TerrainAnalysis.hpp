@@ -19,9 +19,9 @@
 #include <memory>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/mapping/ElevationCell.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -36,6 +36,7 @@ struct TerrainConfig {
   double min_spread_m = 0.03;  // RMS spread of those cells across their weakest in-plane axis [m]
 
   Status validate() const;
+  bool operator==(const TerrainConfig&) const = default;
 };
 
 enum class TerrainStatus : std::uint8_t {

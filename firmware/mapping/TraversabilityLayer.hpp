@@ -5,8 +5,8 @@
 // prefer flatter ground. The elevation map is shared; each profile derives its own layer.
 #include <cstdint>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "firmware/mapping/TerrainAnalysis.hpp"
 
 namespace carril::fw {
@@ -18,6 +18,7 @@ struct TraversabilityProfile {
   int graded_cost_max = 200;      // cost at the limits (0 on flat ground) [1..252]
 
   Status validate() const;
+  bool operator==(const TraversabilityProfile&) const = default;
 };
 
 class TraversabilityLayer {

@@ -11,8 +11,8 @@
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/StaticVector.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 

@@ -118,14 +118,14 @@ std::size_t map_cells(const OccupancyGrid& m) {
 
 CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& footprint,
                                  bool holonomic, const Topic<OdometryMsg>& pose,
-                                 const CostmapView& costmap, const OccupancyGrid& static_map)
+                                 const Topic<CostmapMsg>& costmap, const OccupancyGrid& static_map)
     : cfg_(cfg),
       footprint_(footprint),
       tracker_(cfg.tracker, holonomic),
       sweep_follower_(cfg.sweep),
       transit_follower_(cfg.transit_pursuit),
       pose_(pose),
-      costmap_(costmap),
+      costmap_in_(costmap),
       map_(static_map),
       area_(map_cells(static_map)) {
   init_status_ = cfg.validate();
@@ -297,7 +297,7 @@ MissionOutput CoverageMission::update(const MissionContext& ctx) {
   }
   switch (state_) {
     case State::Wait:
-      if (!ctx.drives_ready || costmap_.updates() == 0) return {};
+      if (!ctx.drives_ready || costmap().updates() == 0) return {};
       if (!init_status_) return fail(Fault::NoCoverageArea);
       t0_s_ = now_s_;
       last_pose_ = pose;

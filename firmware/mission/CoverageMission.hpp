@@ -50,13 +50,13 @@
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
-#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mapping/CoverageGrid.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 #include "firmware/planning/Boustrophedon.hpp"
 #include "firmware/planning/CoverageArea.hpp"
 #include "firmware/planning/WavefrontPlanner.hpp"
@@ -81,6 +81,7 @@ struct VacuumConfig {
   double bump_m = 0.03;                // a lethal cell this close ahead of the body: a bump [m]
 
   Status validate() const;
+  bool operator==(const VacuumConfig&) const = default;
 };
 
 struct CoverageConfig {
@@ -140,6 +141,7 @@ struct CoverageConfig {
 
   CoverageConfig();
   Status validate() const;
+  bool operator==(const CoverageConfig&) const = default;
 };
 
 class CoverageMission final : public Mission {
@@ -153,7 +155,7 @@ class CoverageMission final : public Mission {
   // floor(x / resolution) in the same frame. A failure is kept in init_status() and ends the
   // mission at its first tick with no_coverage_area.
   CoverageMission(const CoverageConfig& cfg, const Footprint& footprint, bool holonomic,
-                  const Topic<OdometryMsg>& pose, const CostmapView& costmap,
+                  const Topic<OdometryMsg>& pose, const Topic<CostmapMsg>& costmap,
                   const OccupancyGrid& static_map);
 
   const char* name() const override { return "coverage"; }
@@ -249,7 +251,8 @@ class CoverageMission final : public Mission {
   LaneFollower sweep_follower_;
   PurePursuitFollower transit_follower_;
   const Topic<OdometryMsg>& pose_;
-  const CostmapView& costmap_;
+  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
+  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
   const OccupancyGrid& map_;
   Status init_status_;
   bool accounting_ = false;  // the map is usable: the coverage grid counts

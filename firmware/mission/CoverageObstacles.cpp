@@ -33,7 +33,7 @@ void CoverageMission::build_mapped_mask() {
 
 // Costmap cell (cx, cy) is lethal and no mapped wall: an obstacle the map does not show.
 bool CoverageMission::unmapped_lethal(int cx, int cy) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   if (!m.contains(cx, cy) || m.at(cx, cy) != cost::kLethal) return false;
   int i = 0, j = 0;
   if (!map_.cell_of(m.center_of(cx), m.center_of(cy), i, j)) return false;  // off the map: a wall
@@ -52,7 +52,7 @@ double CoverageMission::obstacle_reach_m() const {
 // the unmapped obstacles, each widened by obstacle_reach_m(). O(cells) plus the obstacles'
 // disks.
 void CoverageMission::overlay_unmapped() {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   if (!m.ready()) return;
   const int nx = map_.nx(), ny = map_.ny();
   const double res = map_.resolution();
@@ -84,7 +84,7 @@ void CoverageMission::overlay_unmapped() {
 // An unmapped obstacle within obstacle_reach_m() of p: the body standing there would touch it, or
 // come closer than the clearance the mission keeps.
 bool CoverageMission::blocked_at(const Vec2& p) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   if (!m.ready()) return false;
   const double radius = obstacle_reach_m();
   const int n = int(std::ceil(radius / m.resolution()));
@@ -128,7 +128,7 @@ bool CoverageMission::path_blocked_ahead(const Pose2& pose) const {
 // Unless any_lethal, only unmapped obstacles count: the area keeps the robot off the mapped walls.
 bool CoverageMission::lethal_near(const Pose2& pose, double margin, bool forward,
                                   bool any_lethal) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   if (!m.ready() || !std::isfinite(pose.x) || !std::isfinite(pose.y)) return false;
   const double reach = std::min(footprint_.half_length_m, footprint_.half_width_m) + margin;
   const int n = static_cast<int>(std::ceil(reach / m.resolution())) + 1;

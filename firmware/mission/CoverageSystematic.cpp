@@ -268,7 +268,7 @@ bool CoverageMission::path_to(int ti, int tj, const Vec2& target) {
   if (waypoints_.size() < 2) waypoints_.push_back(target);
   waypoints_.back() = target;
   transit_follower_.reset();
-  seen_updates_ = costmap_.updates();
+  seen_updates_ = costmap().updates();
   const Pose2 pose = pose_.get().pose;
   if ((target - Vec2(pose.x, pose.y)).norm() < cfg_.transit_pursuit.goal_tolerance_m * 2.0) {
     arrive(pose);
@@ -411,8 +411,8 @@ bool CoverageMission::join_clear(std::size_t from, std::size_t to) const {
 }
 
 MissionOutput CoverageMission::transit(const Pose2& pose) {
-  if (costmap_.updates() != seen_updates_) {
-    seen_updates_ = costmap_.updates();
+  if (costmap().updates() != seen_updates_) {
+    seen_updates_ = costmap().updates();
     if (path_blocked_ahead(pose)) {
       ++replans_;
       return start_plan(purpose_, pose);

@@ -92,10 +92,10 @@ BehaviorInput FollowLineMission::inputs(const MissionContext& ctx) {
   in.measured = odom.twist;
   in.obstacles = obstacles_.peek().valid() ? &obstacles_.peek() : nullptr;
   in.tape = &map_;
-  if (costmap_ != nullptr && costmap_->updates() > 0) {
-    in.costmap = &costmap_->master();
-    in.costmap_updated = costmap_->updates() != costmap_seen_;
-    costmap_seen_ = costmap_->updates();
+  if (const CostmapView* c = costmap(); c != nullptr && c->updates() > 0) {
+    in.costmap = &c->master();
+    in.costmap_updated = c->updates() != costmap_seen_;
+    costmap_seen_ = c->updates();
   }
   // The runner answers the obstacle question; FOLLOW is the state that acts on it, and the far
   // tape segment (where the tape runs into the obstacle) is only read then.

@@ -9,11 +9,11 @@
 #include "firmware/control/LineController.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
-#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/Mission.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 #include "firmware/perception/LinePerception.hpp"
-#include "firmware/perception/ObstacleField.hpp"
 #include "firmware/perception/TapeMap.hpp"
 
 namespace carril::fw {
@@ -25,6 +25,7 @@ struct FollowLineConfig {
       0.6;  // how far ahead along the remembered tape corners are looked for [m]
 
   Status validate() const;
+  bool operator==(const FollowLineConfig&) const = default;
 };
 
 class FollowLineMission final : public Mission {
@@ -47,8 +48,8 @@ class FollowLineMission final : public Mission {
 
   const LineBehavior& behavior() const { return behavior_; }
   const TapeMap& tape() const { return map_; }
-  // The costmap the bypass is checked on (nullptr: the obstacle outline alone decides).
-  void set_costmap(const CostmapView* c) { costmap_ = c; }
+  // The costmap the bypass is checked on (no view on it: the obstacle outline alone decides).
+  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_ = &c; }
 
  private:
   // Tape and end mark of a new frame into memory; whether the frame showed tape.
@@ -71,7 +72,10 @@ class FollowLineMission final : public Mission {
   bool end_known_ = false;
   bool end_glimpsed_ = false;             // an end mark cut by the image edge has been seen
   Vec2 end_glimpse_odom_ = Vec2::Zero();  // the visible part's centroid, odometry frame [m]
-  const CostmapView* costmap_ = nullptr;
+  const Topic<CostmapMsg>* costmap_in_ = nullptr;  // the costmap topic (no view: none built)
+  const CostmapView* costmap() const {
+    return costmap_in_ != nullptr ? costmap_in_->get().view : nullptr;
+  }
   std::uint32_t costmap_seen_ = 0;
   Vec2 end_odom_ = Vec2::Zero();
   bool line_seen_ = false;  // the newest frame showed tape (LineDetection::sure, or a piece of it)

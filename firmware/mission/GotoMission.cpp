@@ -86,20 +86,24 @@ const char* goto_state_name(GotoMission::State s) {
 }
 
 GotoMission::GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool holonomic,
-                         const Topic<OdometryMsg>& odom, const CostmapView& costmap)
+                         const Topic<OdometryMsg>& odom, const Topic<CostmapMsg>& costmap)
     : cfg_(cfg),
       footprint_(footprint),
       tracker_(cfg.tracker, holonomic),
       pure_pursuit_(cfg.pure_pursuit),
       vff_(cfg.vff),
       odom_(odom),
-      costmap_(costmap),
+      costmap_in_(costmap),
       guard_(footprint.half_length_m, footprint.half_width_m, std::max(0.0, cfg.corner_pad_m),
              footprint.circumscribed_m() + std::max(0.0, cfg.corner_pad_m) +
                  cfg.speed_mps * kCornerReactionS + cfg.emergency_stop_m + BodyGuard::kEscapeM +
                  0.1),
       goal_(cfg.goal_at(0)) {
-  const RollingGrid<std::uint8_t>& m = costmap.master();
+  // The view is on the bus before any mission is built (Mapping publishes it at init); none: no
+  // costmap is built, and the mission cannot plan (validate() refuses goto without one).
+  const CostmapView* view = costmap.get().view;
+  if (view == nullptr) return;
+  const RollingGrid<std::uint8_t>& m = view->master();
   planner_ready_ = m.ready() && planner_.init(m.nx(), m.ny(), cfg.planner);
   if (planner_ready_) plan_costs_ = std::make_unique<std::uint8_t[]>(std::size_t(m.nx()) * m.ny());
 }
@@ -212,7 +216,7 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
   const Pose2 pose = odom_.get().pose;
   switch (state_) {
     case State::Wait:
-      if (ctx.drives_ready && costmap_.updates() > 0) {
+      if (ctx.drives_ready && costmap().updates() > 0) {
         if (!planner_ready_) return fail(Fault::NoPath);
         go(State::Plan, "plan");
         return plan_step(pose);
@@ -265,7 +269,7 @@ MissionOutput GotoMission::update(const MissionContext& ctx) {
 // The robot's cell for the descent: its own, or when that one is impassable (the robot stands
 // in an obstacle's inflation) the neighbour within 3 cells nearest the goal.
 bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   const int x0 = m.cell_of(pose.x) - plan_cx0_, y0 = m.cell_of(pose.y) - plan_cy0_;
   if (planner_.reachable(x0, y0)) {
     out = {x0, y0};
@@ -290,7 +294,7 @@ bool GotoMission::start_cell(const Pose2& pose, GridCell& out) const {
 bool GotoMission::goal_in_obstacle(int gx, int gy) const {
   // What a body on the goal could touch: the lidar's returns and the static map's walls.
   const double radius = footprint_.circumscribed_m();
-  for (const RollingGrid<std::uint8_t>* g : {&costmap_.obstacles(), costmap_.walls()}) {
+  for (const RollingGrid<std::uint8_t>* g : {&costmap().obstacles(), costmap().walls()}) {
     if (g == nullptr || !g->ready()) continue;
     const int r = static_cast<int>(std::ceil(radius / g->resolution()));
     for (int dy = -r; dy <= r; ++dy) {
@@ -304,7 +308,7 @@ bool GotoMission::goal_in_obstacle(int gx, int gy) const {
 }
 
 MissionOutput GotoMission::plan_step(const Pose2& pose) {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   if (planner_.status() != WavefrontStatus::Running) {
     // A new plan on the current costmap.
     int gx = 0, gy = 0;
@@ -319,11 +323,11 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
         if (x < 0 || y < 0 || x >= m.nx() || y >= m.ny() || dx * dx + dy * dy > r * r) continue;
         // The lidar layer may be a smaller window than the master (a fixed map of a building
         // round a rolling lidar window): a cell outside it has not been seen.
-        const RollingGrid<std::uint8_t>& o = costmap_.obstacles();
+        const RollingGrid<std::uint8_t>& o = costmap().obstacles();
         const int cx = m.origin_cx() + x, cy = m.origin_cy() + y;
         if (o.contains(cx, cy) && o.at(cx, cy) == cost::kLethal) continue;
         // Nor is a wall of the static map ever cleared.
-        const RollingGrid<std::uint8_t>* w = costmap_.walls();
+        const RollingGrid<std::uint8_t>* w = costmap().walls();
         if (w != nullptr && w->contains(cx, cy) && w->at(cx, cy) == cost::kLethal) continue;
         std::uint8_t& c = plan_costs_[std::size_t(y) * std::size_t(m.nx()) + std::size_t(x)];
         if (!cost::passable(c)) c = cost::kMaxGraded;
@@ -355,7 +359,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
   pure_pursuit_.reset();
   vff_.reset();
   vff_held_ = false;
-  seen_updates_ = costmap_.updates();
+  seen_updates_ = costmap().updates();
   go(State::Follow, "follow");
   return {};
 }
@@ -363,7 +367,7 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
 // Samples the path from the robot's segment on, for replan_lookahead_m: a lethal or inscribed
 // cell on it means the plan no longer holds.
 bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   double left = cfg_.replan_lookahead_m;
   Vec2 a(pose.x, pose.y);
   for (std::size_t i = progress_ + 1; i < waypoints_.size() && left > 0.0; ++i) {
@@ -394,7 +398,7 @@ bool GotoMission::lethal_ahead(const Pose2& pose) const {
 
 // A lethal cell on the body's cross line at x_body (body frame) [m], across its width.
 bool GotoMission::lethal_at_edge(const Pose2& pose, double x_body) const {
-  const RollingGrid<std::uint8_t>& m = costmap_.master();
+  const RollingGrid<std::uint8_t>& m = costmap().master();
   // Samples every half cell across the width, both edges included.
   const int n = static_cast<int>(std::ceil(2.0 * footprint_.half_width_m / (0.5 * m.resolution())));
   for (int k = 0; k <= n; ++k) {
@@ -439,8 +443,8 @@ MissionOutput GotoMission::follow(const Pose2& pose, const ObstacleGuard* lidar)
     go(State::Approach, "approach");
     return {};
   }
-  if (costmap_.updates() != seen_updates_) {
-    seen_updates_ = costmap_.updates();
+  if (costmap().updates() != seen_updates_) {
+    seen_updates_ = costmap().updates();
     if (path_blocked_ahead(pose)) {
       ++replans_;
       go(State::Plan, "replan");
@@ -454,7 +458,7 @@ MissionOutput GotoMission::follow(const Pose2& pose, const ObstacleGuard* lidar)
     // Both run every tick, so each keeps its place on the path; VFF drives unless its heading
     // has met a lethal cell within the last vff_fallback_m.
     const Twist pp = pure_pursuit_.update(pose, waypoints_.begin(), waypoints_.size());
-    out.motion.twist = vff_.update(pose, waypoints_.begin(), waypoints_.size(), costmap_.master());
+    out.motion.twist = vff_.update(pose, waypoints_.begin(), waypoints_.size(), costmap().master());
     const Vec2 here(pose.x, pose.y);
     if (vff_held_ && (here - vff_held_at_).norm() >= cfg_.vff_fallback_m) vff_held_ = false;
     if (!vff_held_ && cfg_.vff_fallback_m > 0.0 && out.motion.twist.vx > 0.0 && front_lethal) {
@@ -497,7 +501,7 @@ MissionOutput GotoMission::corner_guarded(const Pose2& pose, MissionOutput out,
   const bool tight =
       cfg_.corner_pad_m >= 0.0 && t.vx >= 0.0 && std::fabs(t.wz) >= cfg_.turn_in_place_min_radps;
   if (escaping_ || tight) {
-    guard_.gather(pose, costmap_.obstacles());
+    guard_.gather(pose, costmap().obstacles());
     // What the lidar saw before it left its view: a 180 deg lidar is blind beside and behind,
     // where a turn's corners sweep, and a relocalisation clears the costmap's marks.
     if (lidar != nullptr && lidar->field().valid()) {

@@ -36,12 +36,12 @@
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
-#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 #include "firmware/planning/WavefrontPlanner.hpp"
 
 namespace carril::fw {
@@ -111,6 +111,7 @@ struct GotoConfig {
   std::size_t goal_count() const { return goals.empty() ? 1 : goals.size(); }
   // Goal k of the sequence (k < goal_count()).
   const Pose2& goal_at(std::size_t k) const { return goals.empty() ? goal : goals[k]; }
+  bool operator==(const GotoConfig&) const = default;
 };
 
 class GotoMission final : public Mission {
@@ -120,7 +121,7 @@ class GotoMission final : public Mission {
 
   // Sizes the planner for the costmap's window (init time).
   GotoMission(const GotoConfig& cfg, const Footprint& footprint, bool holonomic,
-              const Topic<OdometryMsg>& odom, const CostmapView& costmap);
+              const Topic<OdometryMsg>& odom, const Topic<CostmapMsg>& costmap);
 
   const char* name() const override { return "goto"; }
   void enter(const MissionContext& ctx) override;
@@ -170,7 +171,8 @@ class GotoMission final : public Mission {
   PurePursuitFollower pure_pursuit_;
   VffFollower vff_;
   const Topic<OdometryMsg>& odom_;
-  const CostmapView& costmap_;
+  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
+  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
   WavefrontPlanner planner_;
   bool planner_ready_ = false;
   std::unique_ptr<std::uint8_t[]> plan_costs_;  // the master as planned on (goal area opened)

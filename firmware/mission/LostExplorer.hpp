@@ -24,6 +24,7 @@ struct LostExploreConfig {
   double stop_free_m = 0.6;        // a leg ends once the corridor ahead is shorter than this [m]
 
   Status validate() const;
+  bool operator==(const LostExploreConfig&) const = default;
 };
 
 class LostExplorer {

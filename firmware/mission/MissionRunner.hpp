@@ -6,16 +6,17 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mission/LostExplorer.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MotionCheck.hpp"
 #include "firmware/mission/ObstacleGuard.hpp"
 #include "firmware/mission/SafetyFields.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 namespace carril::fw {
 
@@ -55,6 +56,7 @@ struct MissionRunnerConfig {
   // plus 0.1 m for the travel between scans: what the obstacle field has to remember of its
   // blind sector (0 without a lost turn) [m].
   double lost_turn_reach_m(const Footprint& fp) const;
+  bool operator==(const MissionRunnerConfig&) const = default;
 };
 
 struct MissionRunnerTelemetry {
@@ -79,7 +81,7 @@ struct MissionRunnerTelemetry {
   bool stopped = false;  // the mission was stopped by a fault (safe stop)
 };
 
-class MissionRunner {
+class MissionRunner final : public MissionStateSource {
  public:
   MissionRunner(const MissionRunnerConfig& cfg, double period_s, int wheel_count, Mission& mission,
                 const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
@@ -89,14 +91,14 @@ class MissionRunner {
   // The pose the mission drives by (the map-frame pose): while it is not localised the runner
   // holds the robot still and does not update the mission (it would drive by a wrong pose).
   void watch_pose(const Topic<OdometryMsg>& pose) { pose_ = &pose; }
-  // The costmap every motion is checked on (in the pose's frame); nullptr: the lidar alone.
-  void set_costmap(const CostmapView* c) { check_.set_costmap(c); }
+  // The costmap every motion is checked on (in the pose's frame); no view on it: the lidar alone.
+  void watch_costmap(const Topic<CostmapMsg>& c) { check_.watch_costmap(c); }
 
   // Task: one mission update (or the safe stop).
   void run();
   const Mission& mission() const { return mission_; }
-  MissionState state() const { return mission_.state(); }
-  const char* take_phase_change() { return mission_.take_phase_change(); }
+  MissionState state() const override { return mission_.state(); }
+  const char* take_phase_change() override { return mission_.take_phase_change(); }
   const MissionRunnerTelemetry& telemetry() const { return tel_; }
 
  private:

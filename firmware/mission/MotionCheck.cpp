@@ -44,13 +44,14 @@ MotionVerdict MotionCheck::check(const Twist& want, const Pose2& pose, const Obs
   const double turn = wmax * fields_.reaction_s() + wmax * wmax / (2.0 * cfg_.yaw_decel_radps2) +
                       cfg_.turn_margin_rad;
   guard_.set_radius(fp_.circumscribed_m() + cfg_.pad_m + (out.turn ? 0.1 : reach + 0.1));
-  const bool have_map = costmap_ != nullptr && costmap_->updates() > 0;
+  const CostmapView* c = costmap();
+  const bool have_map = c != nullptr && c->updates() > 0;
   if (have_map) {
     // What the body can touch: the lidar's marks and the map's walls. The terrain layer (a
     // step, a slope, a trench) is where wheels must not go, which the planners keep to; a body
     // turning above the floor beside it touches nothing.
-    guard_.gather(pose, costmap_->obstacles());
-    if (const RollingGrid<std::uint8_t>* walls = costmap_->walls()) guard_.add_cells(pose, *walls);
+    guard_.gather(pose, c->obstacles());
+    if (const RollingGrid<std::uint8_t>* walls = c->walls()) guard_.add_cells(pose, *walls);
   } else {
     guard_.gather(pose, no_grid_);
   }

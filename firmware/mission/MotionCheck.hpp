@@ -14,10 +14,11 @@
 
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/CostmapView.hpp"
+#include "firmware/core/Topic.hpp"
 #include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/SafetyFields.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 
 namespace carril::fw {
 
@@ -36,6 +37,7 @@ struct MotionCheckConfig {
   bool alternatives = true;
 
   Status validate() const;
+  bool operator==(const MotionCheckConfig&) const = default;
 };
 
 struct MotionVerdict {
@@ -52,9 +54,9 @@ class MotionCheck {
  public:
   MotionCheck(const MotionCheckConfig& cfg, const SafetyFieldsConfig& fields, const Footprint& fp);
 
-  // The costmap the motions are checked on, in the frame of the pose given to check() (nullptr:
-  // the lidar's returns alone).
-  void set_costmap(const CostmapView* c) { costmap_ = c; }
+  // The costmap the motions are checked on, in the frame of the pose given to check() (no view
+  // on it: the lidar's returns alone).
+  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_ = &c; }
   // The request `want` of a robot at `pose` (the costmap's frame) and `odom_pose` (the obstacle
   // field's), turning at `wz_now` [rad/s] and moving at `v_now` [m/s].
   MotionVerdict check(const Twist& want, const Pose2& pose, const ObstacleField& f,
@@ -70,7 +72,10 @@ class MotionCheck {
   MotionCheckConfig cfg_;
   SafetyFieldsConfig fields_;
   Footprint fp_;
-  const CostmapView* costmap_ = nullptr;
+  const Topic<CostmapMsg>* costmap_in_ = nullptr;  // the costmap topic (no view: none built)
+  const CostmapView* costmap() const {
+    return costmap_in_ != nullptr ? costmap_in_->get().view : nullptr;
+  }
   BodyGuard guard_;
   RollingGrid<std::uint8_t> no_grid_;  // never initialised: gathers nothing
   std::uint64_t crowded_ = 0;

@@ -3,9 +3,9 @@
 // per tick, and the lidar's returns the missions' own body checks can add to their costmaps.
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mission/SafetyFields.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 
 namespace carril::fw {
 
@@ -18,6 +18,7 @@ struct ObstacleStopConfig {
   double corridor_margin_m = 0.10;  // the corridor ahead: robot width + this each side [m]
 
   Status validate() const;
+  bool operator==(const ObstacleStopConfig&) const = default;
 };
 
 // The obstacle-ahead question, answered at most once per tick (the missions and the runner's

@@ -24,7 +24,7 @@
 
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 
 namespace carril::fw {
 
@@ -61,6 +61,7 @@ struct SafetyFieldsConfig {
   double static_cap_mps(double d) const;
   double warning_cap_mps(double d) const;  // fastest v whose warning field ends short of d [m/s]
   double side_cap_mps(double l) const;     // fastest v whose warning field ends short of l beside
+  bool operator==(const SafetyFieldsConfig&) const = default;
 };
 
 // What the fields made of one motion request.

@@ -74,13 +74,13 @@ const char* waypoint_state_name(WaypointMission::State s) {
 
 WaypointMission::WaypointMission(const WaypointConfig& cfg, const Footprint& footprint,
                                  bool holonomic, const Topic<OdometryMsg>& pose,
-                                 const CostmapView& costmap)
+                                 const Topic<CostmapMsg>& costmap)
     : cfg_(cfg),
       footprint_(footprint),
       holonomic_(holonomic),
       vff_(follower_config(cfg)),
       pose_(pose),
-      costmap_(costmap),
+      costmap_in_(costmap),
       // Gathered: what the keeping distance and the longest stopping distance can reach.
       guard_(footprint.half_length_m, footprint.half_width_m, cfg.body_pad_m,
              footprint.circumscribed_m() + cfg.body_pad_m +
@@ -158,13 +158,13 @@ MissionOutput WaypointMission::update(const MissionContext& ctx) {
   const Pose2 pose = pose_.get().pose;
   switch (state_) {
     case State::Wait:
-      if (!ctx.drives_ready || costmap_.updates() == 0) return {};
+      if (!ctx.drives_ready || costmap().updates() == 0) return {};
       if (cfg_.targets.empty()) {
         go(State::Done, "done");
         return {};
       }
       // The emergency stop reads the master: without one the robot would drive blind.
-      if (!costmap_.master().ready()) return fail(Fault::NoPath, "no_costmap");
+      if (!costmap().master().ready()) return fail(Fault::NoPath, "no_costmap");
       lap_t0_ = ctx.t_s;
       go(State::Drive, kDrive);
       begin_target(ctx, pose);
@@ -225,7 +225,7 @@ bool WaypointMission::target_in_obstacle() const {
   const double circumscribed = footprint_.circumscribed_m();
   const double radius = std::fmax(0.0, circumscribed - cfg_.reach_radius_m);
   // The lidar's returns, and on a map its walls, whether seen yet or not.
-  for (const RollingGrid<std::uint8_t>* o : {&costmap_.obstacles(), costmap_.walls()}) {
+  for (const RollingGrid<std::uint8_t>* o : {&costmap().obstacles(), costmap().walls()}) {
     if (o == nullptr || !o->ready()) continue;
     int tx = 0, ty = 0;
     if (!o->world_to_cell(t.x(), t.y(), tx, ty)) continue;  // not in this window yet
@@ -303,9 +303,9 @@ Twist WaypointMission::guarded(const Twist& want, bool& blocked_straight) {
 }
 
 MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pose) {
-  if (check_target_ || costmap_.updates() != seen_updates_) {
+  if (check_target_ || costmap().updates() != seen_updates_) {
     check_target_ = false;
-    seen_updates_ = costmap_.updates();
+    seen_updates_ = costmap().updates();
     if (target_in_obstacle()) return unreachable(ctx, pose, Fault::GoalInvalid, "goal_invalid");
   }
   const Vec2& target = cfg_.targets[target_];
@@ -333,10 +333,10 @@ MissionOutput WaypointMission::drive(const MissionContext& ctx, const Pose2& pos
   // After a skip: DRIVE for a tick at least (a phase change a tick is reported).
   const bool skipped = !bypass_ && phase_.current() != kDrive;
   if (skipped) go(State::Drive, kDrive);
-  guard_.gather(pose, costmap_.master());
+  guard_.gather(pose, costmap().master());
   const Vec2 to_target = (target - here) / dist;
   // The target alone is the path: the pull is straight at it.
-  Twist want = vff_.update(pose, &target, 1, costmap_.master());
+  Twist want = vff_.update(pose, &target, 1, costmap().master());
   if (bypass_) {
     const double from = (here - bypass_from_).norm();
     bypass_left_ = bypass_left_ || from > kAwayM;

@@ -42,13 +42,13 @@
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/CostValues.hpp"
-#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 
 namespace carril::fw {
 
@@ -95,13 +95,14 @@ struct WaypointConfig {
   double bypass_clearance_m = 0.05;
 
   Status validate() const;
+  bool operator==(const WaypointConfig&) const = default;
 };
 
 class WaypointMission final : public Mission {
  public:
   // holonomic: kept for the common signature; the VFF follower drives without vy either way.
   WaypointMission(const WaypointConfig& cfg, const Footprint& footprint, bool holonomic,
-                  const Topic<OdometryMsg>& pose, const CostmapView& costmap);
+                  const Topic<OdometryMsg>& pose, const Topic<CostmapMsg>& costmap);
 
   const char* name() const override { return "waypoints"; }
   void enter(const MissionContext& ctx) override;
@@ -152,7 +153,8 @@ class WaypointMission final : public Mission {
   bool holonomic_;
   VffFollower vff_;
   const Topic<OdometryMsg>& pose_;
-  const CostmapView& costmap_;
+  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
+  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
 
   State state_ = State::Wait;
   MissionPhase phase_;

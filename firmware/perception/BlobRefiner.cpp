@@ -1,9 +1,9 @@
 #include "firmware/perception/BlobRefiner.hpp"
 
 #include <bit>
-#include <cassert>
 #include <cstring>
 
+#include "firmware/core/Check.hpp"
 #include "firmware/core/Lanes.hpp"
 #include "firmware/perception/BitRuns.hpp"
 #include "firmware/perception/ColorClassifier.hpp"
@@ -187,7 +187,7 @@ BlobRefiner::BlobRefiner(int width, int height, int decimation)
       cell_h_(height / decimation),
       cell_stride_(bit_stride(width / decimation)) {
   // The upsampling and the window's cell words take d as a shift (LineDetector normalises it).
-  assert(decimation == 1 || decimation == 2 || decimation == 4);
+  CARRIL_CHECK(decimation == 1 || decimation == 2 || decimation == 4);
   blob_ = std::make_unique<std::uint64_t[]>(std::size_t(cell_h_ + 2) * cell_stride_);
   chunks_ = (width + kChunk - 1) / kChunk;
   hsum_ = std::make_unique<std::uint16_t[]>(std::size_t(kHSlots) * std::size_t(chunks_) *
@@ -219,7 +219,7 @@ void BlobRefiner::blur_chunk(const std::uint8_t* bgr, int u0, int v0, int rows,
   std::uint64_t* tags = htag_.get() + std::size_t(chunk) * kHSlots;
   std::uint16_t* ring = hsum_.get() + std::size_t(chunk) * kHSlots * kChunkBytes;
   const std::uint64_t gen = gen_ << 16;
-  assert(rows >= 1 && rows <= kChunkRows);
+  if (!CARRIL_CHECK(rows >= 1 && rows <= kChunkRows)) return;
   const std::uint16_t* hs[kChunkRows + 4];
   for (const std::uint16_t*& h : hs) h = ring;  // valid in every entry; rows + 4 are set below
   for (int r = 0; r < rows + 4; ++r) {

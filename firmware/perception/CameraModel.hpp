@@ -18,6 +18,7 @@ struct CameraMount {
   int width = 640, height = 480;           // [px]
 
   Status validate() const;
+  bool operator==(const CameraMount&) const = default;
 };
 
 class CameraModel {

@@ -5,11 +5,13 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorHealth.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/LineObservation.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 #include "firmware/perception/CameraModel.hpp"
 #include "firmware/perception/LineDetector.hpp"
 
@@ -22,17 +24,7 @@ struct LinePerceptionConfig {
   FrameHealthConfig health;
 
   Status validate() const;
-};
-
-// One processed frame.
-struct LineObservation {
-  LineDetection detection;        // tape and end mark, robot frame
-  Pose2 pose;                     // odometry pose the frame was processed at
-  bool end_visible = false;       // an end mark wholly in view (its position can be trusted)
-  Vec2 end_floor = Vec2::Zero();  // its centre on the floor, robot frame [m]
-  // An end mark cut by the image's edge: there, but its centre is not known (detection.end_floor
-  // is the visible part's centroid, within the mark's radius of the centre).
-  bool end_glimpsed = false;
+  bool operator==(const LinePerceptionConfig&) const = default;
 };
 
 struct LinePerceptionTelemetry {

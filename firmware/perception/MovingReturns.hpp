@@ -14,7 +14,7 @@
 
 #include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
@@ -29,6 +29,7 @@ struct MovingReturnsConfig {
   double margin_per_m = 0.01;  // plus this much per metre of range (beam divergence) [m/m]
 
   Status validate() const;
+  bool operator==(const MovingReturnsConfig&) const = default;
 };
 
 class MovingReturns {

@@ -5,13 +5,14 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorHealth.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/ObstacleField.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 #include "firmware/perception/MovingReturns.hpp"
-#include "firmware/perception/ObstacleField.hpp"
 
 namespace carril::fw {
 
@@ -24,6 +25,7 @@ struct ObstacleSensingConfig {
   MovingReturnsConfig moving;  // which returns are something moving
 
   Status validate() const;
+  bool operator==(const ObstacleSensingConfig&) const = default;
 };
 
 struct ObstacleSensingTelemetry {

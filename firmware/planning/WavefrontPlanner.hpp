@@ -15,9 +15,9 @@
 #include <cstdint>
 #include <memory>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -27,6 +27,7 @@ struct WavefrontConfig {
   double cost_weight = 3.0;         // extra traversal per unit of cell cost / 252 [-]
 
   Status validate() const;
+  bool operator==(const WavefrontConfig&) const = default;
 };
 
 // A cell of the planning grid, window index from its lower-left corner.

@@ -142,8 +142,8 @@ void ScipLidar::stop() {
 }
 
 const LaserScan* ScipLidar::latest() {
-  if (buf_.take()) have_ = true;
-  return have_ ? &buf_.front() : nullptr;
+  if (buf_.fetch()) have_ = true;
+  return have_ ? &buf_.value() : nullptr;
 }
 
 scip::Geometry ScipLidar::geometry() const {
@@ -264,7 +264,7 @@ void ScipLidar::session(int fd) {
       malformed_.fetch_add(1);
       continue;
     }
-    LaserScan& out = buf_.back();
+    LaserScan& out = buf_.write_slot();
     out.seq = ++seq_;
     out.stamp_ns = monotonic_ns();
     out.angle_min_rad = float((d.echo.start_step - g.afrt) * step);

@@ -19,8 +19,8 @@
 #include <thread>
 
 #include "hal/RangeScanner.hpp"
+#include "hal/TripleBuffer.hpp"
 #include "hal/scip/ScipCodec.hpp"
-#include "hal/scip/TripleBuffer.hpp"
 
 namespace carril::hal {
 

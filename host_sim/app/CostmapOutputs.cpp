@@ -12,7 +12,7 @@
 namespace carril::sim {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using fw::kPi;  // the one pi, firmware/core/Geometry.hpp
 
 const char* label_name(CellLabel l) {
   switch (l) {
@@ -41,7 +41,7 @@ bool label_holds(CellLabel l, std::uint8_t c) {
   return false;
 }
 
-const fw::RollingGrid<std::uint8_t>* layer_of(const fw::LineFirmware& f, CellLayer l) {
+const fw::RollingGrid<std::uint8_t>* layer_of(const fw::Firmware& f, CellLayer l) {
   const fw::Mapping& m = f.mapping;
   if (!m.enabled()) return nullptr;
   switch (l) {
@@ -72,8 +72,7 @@ fw::Pose2 world_to_odom(const Pose2& start, double x, double y, double yaw_rad) 
   return {c * dx + s * dy, -s * dx + c * dy, fw::wrap_angle(yaw_rad - start.yaw_rad)};
 }
 
-void score_goto(const Scenario& s, const fw::LineFirmware& firmware, const Pose2& p,
-                RunSummary& r) {
+void score_goto(const Scenario& s, const fw::Firmware& firmware, const Pose2& p, RunSummary& r) {
   if (s.mission.type != "goto") return;
   const double gyaw = s.mission.goal_yaw_deg * kPi / 180.0;
   r.goal_error_m = std::hypot(p.x - s.mission.goal_x_m, p.y - s.mission.goal_y_m);
@@ -83,7 +82,7 @@ void score_goto(const Scenario& s, const fw::LineFirmware& firmware, const Pose2
   r.replans = long(firmware.goto_mission.replans());
 }
 
-void check_cells(const Scenario& s, const fw::LineFirmware& f, RunSummary& r) {
+void check_cells(const Scenario& s, const fw::Firmware& f, RunSummary& r) {
   for (const CellExpect& c : s.expect.cells) {
     const fw::RollingGrid<std::uint8_t>* g = layer_of(f, c.layer);
     char buf[256];
@@ -115,7 +114,7 @@ void check_cells(const Scenario& s, const fw::LineFirmware& f, RunSummary& r) {
   }
 }
 
-bool write_costmap_outputs(const fw::LineFirmware& f, const std::string& dir, std::string& error,
+bool write_costmap_outputs(const fw::Firmware& f, const std::string& dir, std::string& error,
                            bool pngs) {
   const fw::Mapping& m = f.mapping;
   if (!m.enabled()) return true;

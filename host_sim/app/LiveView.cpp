@@ -10,6 +10,8 @@
 
 #include "host_sim/app/ViewWindow.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 namespace {
@@ -94,7 +96,7 @@ struct LiveView::Impl {
       } else {
         const cv::RotatedRect r(px(o.center.x, o.center.y),
                                 cv::Size2f(float(o.size_x_m * scale), float(o.size_y_m * scale)),
-                                float(-o.yaw_rad * 180.0 / M_PI));
+                                float(-o.yaw_rad * 180.0 / fw::kPi));
         cv::Point2f c[4];
         r.points(c);
         std::vector<cv::Point> v(c, c + 4);
@@ -148,7 +150,7 @@ bool LiveView::update(SimRun& run, double dt_s) {
   const RobotSpec& r = run.scenario().robot;
   const cv::RotatedRect body(v.px(p.x, p.y),
                              cv::Size2f(float(r.length_m * v.scale), float(r.width_m * v.scale)),
-                             float(-p.yaw_rad * 180.0 / M_PI));
+                             float(-p.yaw_rad * 180.0 / fw::kPi));
   cv::Point2f c[4];
   body.points(c);
   for (int i = 0; i < 4; ++i) cv::line(top, c[i], c[(i + 1) % 4], cv::Scalar(0, 0, 255), 2);

@@ -123,7 +123,7 @@ bool SimRun::step() {
   ++tick_;
 
   // Score the state reached at the end of this period.
-  const fw::LineFirmware& fw = *topo_.firmware;
+  const fw::Firmware& fw = *topo_.firmware;
   const fw::MissionState ms = fw.runner.state();
   const bool faulted = fw.controller.latched();
   TickSample s;
@@ -225,7 +225,7 @@ void check_localisation(const ExpectSpec& x, RunSummary& r) {
 }  // namespace
 
 RunSummary SimRun::summary(double wall_time_s) {
-  fw::LineFirmware& firmware = *topo_.firmware;
+  fw::Firmware& firmware = *topo_.firmware;
   firmware.refresh_telemetry();
   const fw::FirmwareTelemetry& all = firmware.telemetry();
   const fw::ControllerTelemetry& tel = all.controller;

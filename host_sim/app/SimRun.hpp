@@ -41,7 +41,7 @@ class SimRun {
   // Task overrun events (throttled), as log lines, since the start of the run.
   const std::vector<std::string>& overrun_log() const { return overrun_log_; }
   SimTopology& topology() { return topo_; }
-  const fw::LineFirmware& firmware() const { return *topo_.firmware; }
+  const fw::Firmware& firmware() const { return *topo_.firmware; }
   const Scenario& scenario() const { return scenario_; }
   std::uint64_t allocations_in_ticks() const;
   // The coverage run's score from the true pose (nullptr for other missions).

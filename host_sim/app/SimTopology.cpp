@@ -12,7 +12,7 @@
 namespace carril::sim {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using fw::kPi;  // the one pi, firmware/core/Geometry.hpp
 constexpr std::int64_t us(double v) {
   return static_cast<std::int64_t>(v * 1e3);
 }
@@ -50,28 +50,6 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
     const Pose2 p = s.localisation.initial_pose.value_or(s.robot.start);
     loader::configure_for_map(s.robot, start, {p.x, p.y, p.yaw_rad}, c);
     c.localisation.mcl.seed = seed;
-    // Tuned to the simulated robot: a lidar with 1 cm range noise (sigma_hit 0.1 m, beams
-    // counted as 1 + 59 x 0.05 correlated), odometry that drifts only by the scenario's
-    // odometry: section (alphas 0.05).
-    fw::MclConfig& mc = c.localisation.mcl;
-    mc.sigma_hit_m = 0.1;
-    mc.beam_correlation = 0.05;
-    mc.alpha1 = mc.alpha2 = mc.alpha3 = mc.alpha4 = 0.05;
-    // The simulator's walls fill the map's occupied cells exactly: a face at the cells' edge.
-    // Distances to cell centres (0 anywhere inside a 2-3 cell thick wall) let the estimate slide
-    // 5 cm towards the walls in view (goto_house_mcl: RMSE 0.061 m median, 0.020 m with this).
-    mc.surface_distance = true;
-    if (s.localisation.global || s.localisation.recovery) {
-      // Finding itself over the whole house (global, or spread again after a kidnap): the
-      // filter's default model (sigma_hit 0.2 m, beams counted as 1 + 59 x 0.2), which keeps
-      // every room that fits a view alive until the turn tells them apart. With the tracking
-      // model throughout, seeds 1-10: global localisation ended no_path on seed 9, the kidnap
-      // took up to 26.5 s to recover (3.0 to 5.5 s with this). Localised, the tracking model
-      // again (its accuracy). (configure_for_map switches the search on and has the robot look
-      // round while lost.)
-      mc.search_sigma_hit_m = 0.2;
-      mc.search_beam_correlation = 0.2;
-    }
     return c;
   }
   // A scenario's goals are in the world frame; the firmware's odometry starts at the start pose.
@@ -85,29 +63,6 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map, st
     t = fw::Vec2(o.x, o.y);
   }
   return c;
-}
-
-fw::Status declare_tasks(fw::LineFirmware& f) {
-  using fw::TaskSpec;
-  const fw::TaskRates r = fw::task_rates(f.config());
-  // Read top to bottom: the order tasks run in within a tick is the order data flows.
-  // bind<component method>(name, rate [Hz], offset [ticks], budget [ns], component)
-  const TaskSpec table[] = {
-      TaskSpec::bind<&fw::SensorWatch::run>("health", r.control_hz, 0, us(20), &f.watch),
-      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", r.control_hz, 0, us(20), &f.odometry),
-      TaskSpec::bind<&fw::Localisation::run>("localisation", r.control_hz, 0, us(250),
-                                             &f.localisation),
-      TaskSpec::bind<&fw::LinePerception::run>("perception", r.camera_hz, 0, us(400),
-                                               &f.perception),
-      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
-                                                &f.obstacle_sensing),
-      TaskSpec::bind<&fw::Mapping::run>("mapping", r.control_hz, 0, us(400), &f.mapping),
-      TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(300), &f.runner),
-      TaskSpec::bind<&fw::MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
-      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
-                                                           r.telemetry_offset, us(50), &f),
-  };
-  return f.controller.declare(table);
 }
 
 fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
@@ -130,10 +85,13 @@ fw::FirmwareConfig checked(fw::FirmwareConfig c, const ConfigTweak& tweak, const
   return c;
 }
 
-std::unique_ptr<fw::LineFirmware> wired(const fw::FirmwareConfig& c, const hal::Clock& clock,
-                                        const Scenario& s) {
-  auto f = std::make_unique<fw::LineFirmware>(c, clock);
-  if (const fw::Status st = declare_tasks(*f); !st) {
+std::unique_ptr<fw::Firmware> wired(const fw::FirmwareConfig& c, const hal::Clock& clock,
+                                    const Scenario& s) {
+  auto f = std::make_unique<fw::Firmware>(c, clock);
+  if (const fw::Status st = f->init_status(); !st) {
+    throw std::invalid_argument(s.source_path + ": firmware set-up: " + st.message());
+  }
+  if (const fw::Status st = f->declare_tasks(); !st) {
     throw std::invalid_argument(s.source_path + ": task table: " + st.message());
   }
   return f;

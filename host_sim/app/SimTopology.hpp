@@ -6,9 +6,9 @@
 #include <functional>
 #include <memory>
 
+#include "firmware/app/Firmware.hpp"
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
-#include "firmware/app/LineFirmware.hpp"
 #include "firmware/app/StatusReporter.hpp"
 #include "firmware/core/EventLog.hpp"
 #include "firmware/core/SlowRateGroup.hpp"
@@ -35,10 +35,6 @@ fw::FirmwareConfig firmware_config(const Scenario& s, fw::OccupancyGrid* map = n
 // Changes the firmware configuration after it is derived from the scenario (tests: a rule
 // switched off, to show what it guards against).
 using ConfigTweak = std::function<void(fw::FirmwareConfig&)>;
-
-// The firmware's task table on the simulator: which component runs at what rate (from the
-// configured sensor rates), on which tick of its period, with what time budget.
-fw::Status declare_tasks(fw::LineFirmware& fw);
 
 // The slow rate group on the simulator: heavy or OS-bound work off the control loop, run in
 // lockstep (SimRun calls its cycle every slow_divisor ticks), so runs stay bit-identical.
@@ -70,7 +66,7 @@ struct SimTopology {
   // The firmware.
   fw::OccupancyGrid static_map;  // the scenario's map as the firmware gets it (empty without)
   fw::FirmwareConfig config;
-  std::unique_ptr<fw::LineFirmware> firmware;  // large (latency histograms): on the heap, at init
+  std::unique_ptr<fw::Firmware> firmware;  // large (latency histograms): on the heap, at init
   fw::FirmwareApp app;
   // The slow rate group and what it runs.
   hal::SimConsole console;

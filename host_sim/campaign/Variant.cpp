@@ -12,11 +12,13 @@
 #include "loader/StrictYaml.hpp"
 #include "loader/YamlPrecheck.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim::campaign {
 
 namespace {
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
+using fw::kPi;  // the one pi, firmware/core/Geometry.hpp
 
 std::uint64_t splitmix64(std::uint64_t x) {
   x += 0x9E3779B97F4A7C15ULL;

@@ -143,7 +143,7 @@ void ScipServer::publish(const hal::LaserScan& scan) {
     shape_mismatches_.fetch_add(1);
     return;
   }
-  scans_.back() = scan;
+  scans_.write_slot() = scan;
   scans_.publish();
   wake();
 }
@@ -235,9 +235,9 @@ void ScipServer::serve_client() {
       std::memmove(in_.data(), in_.data() + start, have - start);
       have -= start;
     }
-    if (scans_.take()) {
+    if (scans_.fetch()) {
       have_scan_ = true;
-      const hal::LaserScan& scan = scans_.front();
+      const hal::LaserScan& scan = scans_.value();
       if (get_pending_) {
         get_pending_ = false;
         if (!send_scan(get_, scan, -1, scip::kStatusOk)) return close_client();
@@ -403,7 +403,7 @@ bool ScipServer::handle_line(const char* line, std::size_t n) {
         get_pending_ = true;  // answered with the first scan published
         return true;
       }
-      return send_scan(r, scans_.front(), -1, scip::kStatusOk);
+      return send_scan(r, scans_.value(), -1, scip::kStatusOk);
     case scip::Command::Unknown:
       break;
   }

@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
+#include "hal/TripleBuffer.hpp"
 #include "hal/Types.hpp"
 #include "hal/scip/ScipCodec.hpp"
-#include "hal/scip/TripleBuffer.hpp"
 
 namespace carril::sim {
 

@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace carril::sim {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 void LocalisationMetrics::add(double t_s, double error_m, double yaw_error_rad) {
   ticks_.push_back({t_s, error_m, std::abs(yaw_error_rad)});
@@ -19,7 +16,7 @@ void LocalisationMetrics::kidnap(double t_s) {
 }
 
 std::size_t LocalisationMetrics::settled_from(std::size_t begin, std::size_t end) const {
-  const double yaw_bound = kConvergedDeg * kPi / 180.0;
+  const double yaw_bound = kConvergedDeg * std::numbers::pi / 180.0;
   std::size_t from = end;
   // Walk back from the end: the settled stretch is the longest suffix within bounds.
   for (std::size_t k = end; k > begin; --k) {
@@ -56,7 +53,7 @@ LocalisationScore LocalisationMetrics::score() const {
   }
   if (s.converged_ticks > 0) {
     s.rmse_m = std::sqrt(sum_sq / double(s.converged_ticks));
-    s.yaw_rmse_deg = std::sqrt(sum_sq_yaw / double(s.converged_ticks)) * 180.0 / kPi;
+    s.yaw_rmse_deg = std::sqrt(sum_sq_yaw / double(s.converged_ticks)) * 180.0 / std::numbers::pi;
   }
   return s;
 }

@@ -9,6 +9,8 @@
 #include "host_sim/scenario/ColorCheck.hpp"
 #include "loader/OccupancyMapFile.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 using strict::Node;
@@ -27,7 +29,7 @@ bool overlaps(const Obb& a, const Obb& b) {
   const Obb* boxes[2] = {&a, &b};
   for (const Obb* axis_box : boxes) {
     for (int k = 0; k < 2; ++k) {
-      const double ang = axis_box->yaw + (k == 0 ? 0.0 : std::numbers::pi / 2);
+      const double ang = axis_box->yaw + (k == 0 ? 0.0 : fw::kPi / 2);
       const double ax = std::cos(ang), ay = std::sin(ang);
       double reach = 0.0;
       for (const Obb* o : boxes) {
@@ -97,7 +99,7 @@ void check_pose_clear(const Scenario& s, double x, double y, double yaw_rad, con
                            strict::format_number(r.length_m) + " x " +
                            strict::format_number(r.width_m) + " m) is clear of ";
   const std::string got = "x " + strict::format_number(x) + ", y " + strict::format_number(y) +
-                          ", yaw_deg " + strict::format_number(yaw_rad * 180.0 / std::numbers::pi);
+                          ", yaw_deg " + strict::format_number(yaw_rad * 180.0 / fw::kPi);
   for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
     const ObstacleSpec& o = s.obstacles[i];
     const bool hit = o.shape == ObstacleShape::Box

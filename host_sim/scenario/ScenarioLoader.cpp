@@ -16,6 +16,8 @@
 #define CARRIL_SOURCE_DIR "."
 #endif
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 namespace {
@@ -56,7 +58,7 @@ constexpr std::size_t kMaxTerrain = 256;
 constexpr std::size_t kMaxCellExpects = 256;
 
 double deg2rad(double deg) {
-  return deg * std::numbers::pi / 180.0;
+  return deg * fw::kPi / 180.0;
 }
 
 // ---- Shared value types ----

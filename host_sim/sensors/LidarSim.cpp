@@ -3,10 +3,12 @@
 #include <cmath>
 #include <limits>
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = fw::kPi / 180.0;
 
 }  // namespace
 
@@ -18,7 +20,7 @@ LidarSim::LidarSim(const LidarSpec& spec, std::uint64_t seed)
   const double fov = spec_.fov_deg * kDeg;
   const int n = spec_.beams;
   // A full circle has no end beam: spread the beams so the last does not repeat the first.
-  inc_rad_ = fov >= 2 * M_PI - 1e-9 ? fov / n : fov / (n - 1);
+  inc_rad_ = fov >= 2 * fw::kPi - 1e-9 ? fov / n : fov / (n - 1);
   beam_cos_.resize(std::size_t(n > 0 ? n : 0));
   beam_sin_.resize(beam_cos_.size());
   for (int i = 0; i < n; ++i) {

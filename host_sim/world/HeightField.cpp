@@ -4,11 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 namespace {
 double tan_deg(double deg) {
-  return std::tan(deg * std::numbers::pi / 180.0);
+  return std::tan(deg * fw::kPi / 180.0);
 }
 }  // namespace
 

@@ -5,6 +5,8 @@
 
 #include "host_sim/world/MapWalls.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 // Counts each new contact that involves the robot (Box2D reports a contact once when it begins).
@@ -75,7 +77,8 @@ SimWorld::SimWorld(const Scenario& scenario)
   disc.m_radius = float(r.width_m / 2);
   b2FixtureDef fd;
   fd.shape = r.round_body ? static_cast<const b2Shape*>(&disc) : &box;
-  const double area = r.round_body ? M_PI * disc.m_radius * disc.m_radius : r.length_m * r.width_m;
+  const double area =
+      r.round_body ? fw::kPi * disc.m_radius * disc.m_radius : r.length_m * r.width_m;
   fd.density = float(r.mass_kg / area);
   fd.friction = 0.3F;
   robot_->CreateFixture(&fd);
@@ -202,7 +205,7 @@ void SimWorld::step(double dt) {
 
 Pose2 SimWorld::pose() const {
   const b2Vec2 p = robot_->GetPosition();
-  return {double(p.x), double(p.y), std::remainder(double(robot_->GetAngle()), 2.0 * M_PI)};
+  return {double(p.x), double(p.y), std::remainder(double(robot_->GetAngle()), 2.0 * fw::kPi)};
 }
 
 void SimWorld::body_velocity(double& vx, double& vy, double& wz) const {

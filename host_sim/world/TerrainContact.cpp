@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 
 namespace {
@@ -21,7 +23,7 @@ TerrainContact::TerrainContact(const HeightField& field, const RobotSpec& robot)
       half_base_(robot.wheelbase_m / 2.0),
       half_track_(robot.track_m / 2.0),
       r_(robot.wheel_radius_m),
-      max_tan_slope_(std::tan(robot.terrain_limits.max_slope_deg * std::numbers::pi / 180.0)),
+      max_tan_slope_(std::tan(robot.terrain_limits.max_slope_deg * fw::kPi / 180.0)),
       max_up_(robot.terrain_limits.max_step_up_m),
       max_down_(robot.terrain_limits.max_step_down_m),
       wheelbase_(robot.wheelbase_m),

@@ -32,32 +32,6 @@ hal::TimeNs log_now(void*) {
 }
 }  // namespace
 
-fw::Status declare_tasks(fw::LineFirmware& f) {
-  using fw::TaskSpec;
-  const fw::TaskRates r = fw::task_rates(f.config());
-  // Read top to bottom: the order tasks run in within a tick is the order data flows.
-  // bind<component method>(name, rate [Hz], offset [ticks], budget [ns], component)
-  const TaskSpec table[] = {
-      TaskSpec::bind<&fw::SensorWatch::run>("health", r.control_hz, 0, us(20), &f.watch),
-      TaskSpec::bind<&fw::WheelOdometry::run>("odometry", r.control_hz, 0, us(20), &f.odometry),
-      TaskSpec::bind<&fw::Localisation::run>("localisation", r.control_hz, 0, us(250),
-                                             &f.localisation),
-      TaskSpec::bind<&fw::LinePerception::run>("perception", r.camera_hz, 0, us(400),
-                                               &f.perception),
-      TaskSpec::bind<&fw::ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
-                                                &f.obstacle_sensing),
-      // The costmap from the lidar (and the map), every tick as in the simulator's table: goto
-      // and coverage plan on it, follow_line's bypass checks its lanes on it. Returns at once
-      // when the configuration builds no costmap.
-      TaskSpec::bind<&fw::Mapping::run>("mapping", r.control_hz, 0, us(400), &f.mapping),
-      TaskSpec::bind<&fw::MissionRunner::run>("mission", r.control_hz, 0, us(80), &f.runner),
-      TaskSpec::bind<&fw::MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
-      TaskSpec::bind<&fw::LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
-                                                           r.telemetry_offset, us(50), &f),
-  };
-  return f.controller.declare(table);
-}
-
 fw::Status declare_slow_tasks(fw::SlowRateGroup& slow, fw::StatusReporter& reporter,
                               LoopReportPrinter& loop_report, CanLogFile& can_log,
                               fw::EventSink& events) {
@@ -225,7 +199,9 @@ std::unique_ptr<ControllerTopology> ControllerTopology::create(const fw::Firmwar
   error = config.validate();
   if (!error) return nullptr;
   auto topo = std::make_unique<ControllerTopology>(config, hw);
-  error = declare_tasks(topo->firmware);
+  error = topo->firmware.init_status();
+  if (!error) return nullptr;
+  error = topo->firmware.declare_tasks();
   if (!error) return nullptr;
   error = declare_slow_tasks(topo->slow, topo->reporter, topo->loop_report, topo->can_log,
                              topo->slow_events);

@@ -6,9 +6,9 @@
 #include <memory>
 #include <string>
 
+#include "firmware/app/Firmware.hpp"
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
-#include "firmware/app/LineFirmware.hpp"
 #include "firmware/app/StatusReporter.hpp"
 #include "firmware/core/EventLog.hpp"
 #include "firmware/core/FixedRateLoop.hpp"
@@ -29,10 +29,6 @@
 #include "targets/controller/LoopReport.hpp"
 
 namespace carril::controller {
-
-// The firmware's task table on the robot: which component runs at what rate (from the configured
-// sensor rates), on which tick of its period, with what time budget.
-fw::Status declare_tasks(fw::LineFirmware& fw);
 
 // The slow rate group on the robot: work that must not delay the control loop (the status line,
 // an OS call), on its own thread at a lower priority, fed through the firmware's TripleBuffer.
@@ -97,14 +93,14 @@ struct ControllerTopology {
   hal::Devices devices;
   // The firmware.
   fw::FirmwareConfig config;
-  fw::LineFirmware firmware;
+  fw::Firmware firmware;
   fw::FirmwareApp app;
   // The fixed-rate loop that drives app.step(): CLOCK_MONOTONIC, absolute deadlines.
   fw::FixedRateLoop loop;
   // The slow rate group, its console and its thread (started by start_slow_group()).
   hal::StdoutConsole console;
   fw::StatusReporter reporter;
-  fw::TripleBuffer<LoopFigures> loop_figures;  // published by the loop on SIGUSR1
+  hal::TripleBuffer<LoopFigures> loop_figures;  // published by the loop on SIGUSR1
   LoopReportPrinter loop_report;
   CanLogFile can_log;            // --can-log: opened by main when asked
   fw::EventLog<32> slow_events;  // written by the slow thread only; read after it stopped

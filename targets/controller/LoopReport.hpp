@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "firmware/core/LatencyStats.hpp"
-#include "firmware/core/TripleBuffer.hpp"
 #include "hal/Console.hpp"
+#include "hal/TripleBuffer.hpp"
 
 namespace carril::controller {
 
@@ -49,7 +49,7 @@ inline LoopFigures loop_figures(std::uint64_t periods, std::uint64_t missed,
 // Slow task: prints the figures the loop published, once each.
 class LoopReportPrinter {
  public:
-  LoopReportPrinter(fw::TripleBuffer<LoopFigures>& in, hal::Console& out) : in_(in), out_(out) {}
+  LoopReportPrinter(hal::TripleBuffer<LoopFigures>& in, hal::Console& out) : in_(in), out_(out) {}
   void run() {
     if (!in_.fetch()) return;
     char line[256];
@@ -60,7 +60,7 @@ class LoopReportPrinter {
   std::uint64_t printed() const { return printed_; }
 
  private:
-  fw::TripleBuffer<LoopFigures>& in_;
+  hal::TripleBuffer<LoopFigures>& in_;
   hal::Console& out_;
   std::uint64_t printed_ = 0;
 };

@@ -28,13 +28,7 @@
 
 #include "firmware/app/EventFormat.hpp"
 #include "hal/canopen/Frames.hpp"
-#include "loader/ControllerLoader.hpp"
-#include "loader/FirmwareConfigBuilder.hpp"
-#include "loader/MapMission.hpp"
-#include "loader/MissionLoader.hpp"
-#include "loader/OccupancyMapFile.hpp"
-#include "loader/RobotLoader.hpp"
-#include "loader/TuningLoader.hpp"
+#include "targets/controller/ControllerConfig.hpp"
 #include "targets/controller/ControllerTopology.hpp"
 
 namespace {
@@ -194,74 +188,6 @@ bool parse_args(int argc, char** argv, Options& opt, UsageError& err) {
   return true;
 }
 
-// The firmware configuration from the files on the command line, built by the same loader as
-// the simulator's. Prints the reason (file and key) and returns false when a file is missing or
-// wrong.
-bool load_config(const Options& opt, carril::loader::RobotSpec& robot,
-                 carril::loader::ControllerSpec& controller, carril::loader::MissionSpec& mission,
-                 carril::fw::FirmwareConfig& out) {
-  std::string error;
-  if (!carril::loader::load_robot_preset(opt.robot, robot, error)) {
-    std::fprintf(stderr, "carril_controller: --robot: %s\n", error.c_str());
-    return false;
-  }
-  if (!carril::loader::load_controller(opt.controller, robot, controller, error)) {
-    std::fprintf(stderr, "carril_controller: --controller: %s\n", error.c_str());
-    return false;
-  }
-  if (!carril::loader::load_mission(opt.mission, robot, mission, error)) {
-    std::fprintf(stderr, "carril_controller: --mission: %s\n", error.c_str());
-    return false;
-  }
-  carril::loader::Tuning tuning;
-  if (opt.tuning != nullptr && !carril::loader::load_tuning(opt.tuning, tuning, error)) {
-    std::fprintf(stderr, "carril_controller: --tuning: %s\n", error.c_str());
-    return false;
-  }
-  const carril::loader::BuildResult built = carril::loader::build_firmware_config(
-      robot, mission, opt.tuning != nullptr ? &tuning : nullptr);
-  if (!built.ok) {
-    std::fprintf(stderr, "carril_controller: configuration: %s\n", built.error.c_str());
-    return false;
-  }
-  out = built.config;
-  return true;
-}
-
-// A mission on a known map (the mission file's map:): the map read into `grid` (sized to it, at
-// init) and the firmware set up to localise on it, which takes a 2D lidar. False with the reason
-// printed (the file and key) when the map cannot be read or no lidar is fitted.
-bool load_static_map(const Options& opt, const carril::loader::RobotSpec& robot,
-                     const carril::loader::ControllerSpec& controller,
-                     const carril::loader::MissionSpec& mission,
-                     std::unique_ptr<carril::fw::OccupancyGrid>& grid,
-                     carril::fw::FirmwareConfig& config) {
-  if (mission.map_path.empty()) return true;
-  if (controller.lidar.source == carril::loader::SensorSource::None) {
-    std::fprintf(stderr,
-                 "carril_controller: --mission: %s: map: localising on a map needs a 2D lidar, "
-                 "and %s: sensors.lidar.source is none\n",
-                 opt.mission, controller.source_path.c_str());
-    return false;
-  }
-  const carril::loader::OccupancyMapLoad m =
-      carril::loader::load_occupancy_map(mission.map_path, carril::loader::kMaxMapCells);
-  if (!m.ok()) {
-    std::fprintf(stderr, "carril_controller: --mission: %s: map: cannot load the map: %s\n",
-                 opt.mission, m.error.c_str());
-    return false;
-  }
-  grid = std::make_unique<carril::fw::OccupancyGrid>(m.map.cells.size());
-  if (const carril::fw::Status st = grid->assign(m.map.info, m.map.cells.data()); !st) {
-    std::fprintf(stderr, "carril_controller: --mission: %s: map: %s\n", opt.mission, st.message());
-    return false;
-  }
-  config.map = grid.get();
-  // Without an initial_pose the robot starts at the map's origin.
-  carril::loader::configure_for_map(robot, mission.localisation, {}, config);
-  return true;
-}
-
 void print_telemetry(const FirmwareTelemetry& all, const LoopStats& loop) {
   const carril::fw::ControllerTelemetry& t = all.controller;
   std::printf("telemetry:\n");
@@ -400,14 +326,21 @@ int main(int argc, char** argv) {
   // Init: everything is read, opened, created and wired here, before the first tick; nothing
   // after this allocates.
   install_signal_handlers();
-  carril::loader::RobotSpec robot;
-  carril::loader::ControllerSpec spec;
-  carril::loader::MissionSpec mission;
-  carril::fw::FirmwareConfig config;
-  if (!load_config(opt, robot, spec, mission, config)) return 2;
-  // Declared before the firmware that reads it, so it outlives it.
-  std::unique_ptr<carril::fw::OccupancyGrid> static_map;
-  if (!load_static_map(opt, robot, spec, mission, static_map, config)) return 2;
+  // Declared before the firmware that reads its map, so it outlives it.
+  carril::controller::LoadedConfig loaded;
+  {
+    std::string load_error;
+    if (!carril::controller::load_controller_config(
+            {opt.robot, opt.controller, opt.mission, opt.tuning}, loaded, load_error)) {
+      std::fprintf(stderr, "carril_controller: %s\n", load_error.c_str());
+      return 2;
+    }
+  }
+  const carril::loader::RobotSpec& robot = loaded.robot;
+  const carril::loader::ControllerSpec& spec = loaded.controller;
+  const carril::loader::MissionSpec& mission = loaded.mission;
+  carril::fw::FirmwareConfig& config = loaded.config;
+  const std::unique_ptr<carril::fw::OccupancyGrid>& static_map = loaded.map;
   if (carril::fw::Status s = config.validate(); !s) {
     std::fprintf(stderr, "carril_controller: configuration: %s\n", s.message());
     return 2;

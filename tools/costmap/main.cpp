@@ -24,9 +24,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mapping/InflationLayer.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "firmware/mapping/TerrainAnalysis.hpp"
 #include "firmware/mapping/TraversabilityLayer.hpp"
 #include "loader/AtomicWrite.hpp"

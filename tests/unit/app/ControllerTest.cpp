@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "firmware/app/EventFormat.hpp"
+#include "firmware/mission/MissionRunner.hpp"
 #include "tests/unit/mission/ScriptedMission.hpp"
 
 namespace carril::fw {
@@ -41,8 +42,16 @@ struct Rig {
         runner(MissionRunnerConfig{}, 0.01, 2, mission, frame, odom, obstacles, motion, ctl) {}
 
   std::vector<Fault> to_raise;  // raised by the fast task on the next tick (a health check)
+  bool overfill = false;        // the fast task pushes onto a full StaticVector (a bug)
   void fast() {
     ran.emplace_back("fast");
+    if (overfill) {
+      StaticVector<int, 1> v;
+      v.push_back(1);
+      EXPECT_FALSE(v.push_back(2));  // refused: nothing written past the storage
+      EXPECT_EQ(v.size(), 1U);
+      overfill = false;
+    }
     for (Fault f : to_raise) ctl.raise(f);
     to_raise.clear();
   }
@@ -162,6 +171,33 @@ TEST(ControllerTest, TheFirstFaultLatchesIsCountedOnceAndQuickStops) {
   EXPECT_TRUE(contains(ev[0], "FAULT scanner_blind (code 0x0000) in WORKING: safe stop")) << ev[0];
   EXPECT_TRUE(contains(ev[1], "WORKING -> FAULT")) << ev[1];
   EXPECT_EQ(r.mission.exits, 1);  // the runner stopped the mission
+}
+
+TEST(ControllerTest, AFailedCheckInATaskLatchesCheckFailedAndQuickStops) {
+  Rig r;
+  ASSERT_TRUE(r.declare().is_ok());
+  r.mission.st = {MissionStatus::Active, 2, "WORKING", "busy", true};
+  EXPECT_EQ(r.tick(0).drive, DriveRequest::Run);
+  const std::uint32_t before = check_failures().count;
+  r.overfill = true;
+  const ActuatorCommand c = r.tick(1);
+  EXPECT_EQ(c.drive, DriveRequest::QuickStop);  // the same tick
+  EXPECT_EQ(c.wheel_radps[0], 0.0F);
+  EXPECT_EQ(r.tick(2).drive, DriveRequest::QuickStop);
+  ControllerTelemetry t;
+  r.ctl.fill_telemetry(t);
+  EXPECT_EQ(t.fault, Fault::CheckFailed);
+  EXPECT_EQ(t.fault_counts[std::size_t(Fault::CheckFailed)], 1U);
+  EXPECT_EQ(t.checks_failed, before + 1);
+  const std::vector<std::string> ev = r.events();
+  ASSERT_GE(ev.size(), 1U);
+  EXPECT_TRUE(contains(ev[0], "FAULT check_failed (code 0x")) << ev[0];
+  EXPECT_EQ(r.mission.exits, 1);
+  // A controller made after the failure starts clear: the count it saw at init is not its own.
+  Rig later;
+  ASSERT_TRUE(later.declare().is_ok());
+  later.mission.st = {MissionStatus::Active, 2, "WORKING", "busy", true};
+  EXPECT_EQ(later.tick(0).drive, DriveRequest::Run);
 }
 
 TEST(ControllerTest, LogsPhaseThenStateChangesOfTheMission) {

@@ -1,59 +1,39 @@
 // Static allocation, proven without the simulator, so it runs wherever the firmware runs (the
 // aarch64 cross build under qemu included): this binary replaces the global allocators with
-// counting versions (host_sim/alloc/AllocCounter), wires fw::LineFirmware and FirmwareApp to
+// counting versions (host_sim/alloc/AllocCounter), wires fw::Firmware and FirmwareApp to
 // fake HAL devices (the in-process hal/sim backends, fed here: camera frames with a tape line
 // drawn in, empty-room scans, IMU samples, wheel feedback from ideal motors) and runs hundreds of
 // ticks after init. Not one allocation may happen inside a tick.
 #include <gtest/gtest.h>
 
+#include <malloc.h>
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <malloc.h>
-#include <new>
 #include <memory>
+#include <new>
 #include <string>
 #include <vector>
 
+#include "firmware/app/Firmware.hpp"
 #include "firmware/app/FirmwareApp.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
-#include "firmware/app/LineFirmware.hpp"
 #include "firmware/core/Faults.hpp"
 #include "hal/Devices.hpp"
 #include "hal/sim/SimDevices.hpp"
 #include "host_sim/alloc/AllocCounter.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::fw {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTapeHalfWidthM = 0.025;  // 5 cm tape along the robot's heading
 
 // Keeps the compiler from eliding an allocation/free pair (allowed since C++14).
 void escape(void* p) {
   asm volatile("" : : "g"(p) : "memory");
-}
-
-constexpr std::int64_t us(double v) {
-  return static_cast<std::int64_t>(v * 1e3);
-}
-
-// The robot target's task table (targets/robot/RobotTopology.cpp), which is in no library.
-Status declare_tasks(LineFirmware& f) {
-  const TaskRates r = task_rates(f.config());
-  const TaskSpec table[] = {
-      TaskSpec::bind<&SensorWatch::run>("health", r.control_hz, 0, us(20), &f.watch),
-      TaskSpec::bind<&WheelOdometry::run>("odometry", r.control_hz, 0, us(20), &f.odometry),
-      TaskSpec::bind<&LinePerception::run>("perception", r.camera_hz, 0, us(400), &f.perception),
-      TaskSpec::bind<&ObstacleSensing::run>("obstacles", r.lidar_hz, r.scan_offset, us(60),
-                                            &f.obstacle_sensing),
-      TaskSpec::bind<&MissionRunner::run>("mission", r.control_hz, 0, us(80), &f.runner),
-      TaskSpec::bind<&MotionOutput::run>("motion", r.control_hz, 0, us(20), &f.output),
-      TaskSpec::bind<&LineFirmware::refresh_telemetry>("telemetry", r.telemetry_hz,
-                                                       r.telemetry_offset, us(50), &f),
-  };
-  return f.controller.declare(table);
 }
 
 FirmwareConfig white_tape_config() {
@@ -74,12 +54,12 @@ class FakeRobot {
       : config_(white_tape_config()),
         drives_(DriveKinematics(config_.drive).wheel_count()),
         devices_{clock_, drives_, camera_, scanner_, imu_},
-        firmware_(std::make_unique<LineFirmware>(config_, clock_)),  // large: on the heap
+        firmware_(std::make_unique<Firmware>(config_, clock_)),  // large: on the heap
         app_(devices_, firmware_->controller),
         period_ns_(std::llround(1e9 / config_.rate_hz)),
         cam_period_ns_(std::llround(1e9 / config_.camera.rate_hz)),
         scan_period_ns_(std::llround(1e9 / config_.lidar.rate_hz)) {
-    const Status st = declare_tasks(*firmware_);
+    const Status st = firmware_->declare_tasks();  // both targets' table
     EXPECT_TRUE(st) << st.message();
     draw_tape_mask();
   }
@@ -103,7 +83,7 @@ class FakeRobot {
     ++tick_;
   }
 
-  LineFirmware& firmware() { return *firmware_; }
+  Firmware& firmware() { return *firmware_; }
   hal::SimWheelDrives& drives() { return drives_; }
   std::uint64_t frames_published() const { return frames_; }
 
@@ -172,7 +152,7 @@ class FakeRobot {
   hal::SimImu imu_;
   hal::SimWheelDrives drives_;
   hal::Devices devices_;
-  std::unique_ptr<LineFirmware> firmware_;
+  std::unique_ptr<Firmware> firmware_;
   FirmwareApp app_;
   std::vector<std::uint8_t> tape_;
   hal::TimeNs period_ns_, cam_period_ns_, scan_period_ns_;
@@ -240,14 +220,14 @@ TEST(FirmwareAllocationTest, EveryFormOfAllocationIsCounted) {
 
 TEST(FirmwareAllocationTest, FollowingTheTapeAllocatesNothingInsideTicks) {
   const std::uint64_t total_before = alloc::count_total();
-  FakeRobot robot;                                      // init: allocating here is allowed
+  FakeRobot robot;                                // init: allocating here is allowed
   EXPECT_GT(alloc::count_total(), total_before);  // counting is on
   const std::uint64_t before = alloc::count_in_windows();
   constexpr int kTicks = 600;  // 6 s at 100 Hz: 180 frames, 120 scans
   for (int i = 0; i < kTicks; ++i) robot.step();
 
   // The ticks did the real work: the mission left START and follows the tape, moving.
-  const LineFirmware& f = robot.firmware();
+  const Firmware& f = robot.firmware();
   EXPECT_EQ(f.controller.ticks(), std::uint64_t(kTicks));
   EXPECT_STREQ(fault_name(f.controller.fault()), "none");
   EXPECT_EQ(std::string(f.controller.state_name()), "FOLLOW");
@@ -265,7 +245,7 @@ TEST(FirmwareAllocationTest, DriveFaultAndQuickStopAllocateNothingEither) {
   robot.drives().inject_fault(0, hal::DriveFault::Overcurrent);
   for (int i = 0; i < 300; ++i) robot.step();
 
-  const LineFirmware& f = robot.firmware();
+  const Firmware& f = robot.firmware();
   EXPECT_STREQ(fault_name(f.controller.fault()), "drive_fault");
   EXPECT_EQ(std::string(f.controller.state_name()), "FAULT");
   EXPECT_GT(robot.drives().quick_stop_requests(), 0);

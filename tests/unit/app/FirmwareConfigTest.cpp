@@ -31,7 +31,7 @@ TEST(FirmwareConfigTest, EachBadFieldIsNamedWithItsUnitAndRange) {
        "robot.control_rate_hz: 0 Hz, expected 1 to 10000 Hz"},
       {"nan rate", [nan](FirmwareConfig& c) { c.rate_hz = nan; }, "robot.control_rate_hz: nan Hz"},
       {"wheel", [](FirmwareConfig& c) { c.drive.wheel_radius_m = -0.1; },
-       "drive.wheel_radius_m: -0.1 m, expected 0.005 to 2 m"},
+       "drive.wheel_radius_m: -0.1 m, expected 0.01 to 1 m"},
       {"limits", [](FirmwareConfig& c) { c.limits.max_speed_mps = 50.0; },
        "limits.max_speed_mps: 50 m/s, expected 0.01 to 10 m/s"},
       {"camera tilt", [](FirmwareConfig& c) { c.camera.camera.tilt_rad = 2.0; },

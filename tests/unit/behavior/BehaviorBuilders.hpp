@@ -14,7 +14,7 @@
 #include "firmware/behavior/LineBehavior.hpp"
 #include "firmware/control/LineController.hpp"
 #include "firmware/mission/MissionRunner.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw::test {

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/mapping/CostValues.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "tests/unit/behavior/BehaviorBuilders.hpp"
 
 namespace carril::fw {
@@ -331,8 +331,8 @@ TEST_F(BypassPlannerTest, AnObstacleWhereTheRobotWouldRejoinIsPassedInTheSameByp
   // Hidden behind the first (not in the scan), the costmap's marks of the second do the same.
   World first;
   add_box(first, 1.0, 1.5, -0.25, 0.25);
-  const RollingGrid<std::uint8_t> g = costmap_with(
-      {Vec2(2.12, 0.02), Vec2(2.27, 0.02), Vec2(2.42, 0.02), Vec2(2.57, 0.02)});
+  const RollingGrid<std::uint8_t> g =
+      costmap_with({Vec2(2.12, 0.02), Vec2(2.27, 0.02), Vec2(2.42, 0.02), Vec2(2.57, 0.02)});
   const BypassPlan q = planner.plan(field_of(first, Pose2{}, fp), Pose2{}, Vec2::Zero(), 0.0, &g);
   ASSERT_TRUE(q.ok);
   EXPECT_GE(q.x_far, 2.55);

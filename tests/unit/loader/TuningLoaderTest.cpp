@@ -46,18 +46,19 @@ TEST(TuningLoader, ShippedFileLoads) {
   const std::string path = source_path("config/tuning/default.yaml");
   ASSERT_TRUE(load_tuning(path, t, error)) << error;
   EXPECT_EQ(t.source_path, path);
-  EXPECT_EQ(t.settings.size(), 33U);
+  EXPECT_EQ(t.settings.size(), 42U);  // 33, and the nine task budgets
 }
 
 TEST(TuningLoader, UnknownKeysListTheAllowedOnes) {
   const Loaded top = load("runer: {obstacle: {stop_m: 0.5}}\n");
   EXPECT_EQ(top.error, top.path +
                            ":1: runer: unknown key (allowed: runner, lidar, detector, health, "
-                           "watch, limits)");
+                           "watch, tasks, limits)");
   const Loaded nested = load("detector:\n  decimate: 2\n");
-  EXPECT_EQ(nested.error, nested.path +
-                              ":2: detector.decimate: unknown key (allowed: "
-                              "decimation, tape_width_m, min_piece_m, min_area_px, min_end_area_px)");
+  EXPECT_EQ(nested.error,
+            nested.path +
+                ":2: detector.decimate: unknown key (allowed: "
+                "decimation, tape_width_m, min_piece_m, min_area_px, min_end_area_px)");
   // The robot's own limits are its description's, not tuning.
   const Loaded limit = load("limits: {max_speed_mps: 0.5}\n");
   EXPECT_EQ(limit.error, limit.path +

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <functional>
 
+#include "firmware/core/RollingGrid.hpp"
 #include "firmware/mapping/ElevationCell.hpp"
 #include "firmware/mapping/Pose3Tracker.hpp"
-#include "firmware/mapping/RollingGrid.hpp"
 #include "hal/PointCloud.hpp"
 
 namespace carril::fw::synth {

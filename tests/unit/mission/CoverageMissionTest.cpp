@@ -135,6 +135,7 @@ struct Rig {
   OccupancyGrid map{std::size_t(kNx * kNy)};
   Topic<OdometryMsg> pose_topic;
   TestCostmap costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};  // the bus's costmap topic
   std::unique_ptr<CoverageMission> mission;
   MissionContext ctx;
   Pose2 pose{0.6, 0.6, 0.0};
@@ -145,7 +146,7 @@ struct Rig {
 
   void start() {
     mission = std::make_unique<CoverageMission>(cfg, Footprint{0.25, 0.25}, false, pose_topic,
-                                                costmap, map);
+                                                costmap_topic, map);
     mission->enter(ctx);
     if (trace_) {
       const Boustrophedon& b = mission->decomposition();
@@ -563,8 +564,9 @@ TEST(CoverageMissionTest, AMapWithNoFreeCellFailsWithAClearErrorAndAFault) {
   OccupancyGrid none;
   Topic<OdometryMsg> pose;
   TestCostmap costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};
   CoverageConfig cfg;
-  CoverageMission m(cfg, Footprint{0.25, 0.25}, false, pose, costmap, none);
+  CoverageMission m(cfg, Footprint{0.25, 0.25}, false, pose, costmap_topic, none);
   EXPECT_NE(std::string(m.init_status().message()).find("no static map"), std::string::npos);
 }
 

@@ -108,13 +108,14 @@ struct Rig {
   GotoConfig cfg;
   Topic<OdometryMsg> odom;
   TestCostmap costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};  // the bus's costmap topic
   std::unique_ptr<GotoMission> mission;
   MissionContext ctx;
   Pose2 pose;
   double min_wall_distance = 1e9;
 
   void start() {
-    mission = std::make_unique<GotoMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap);
+    mission = std::make_unique<GotoMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap_topic);
     mission->enter(ctx);
   }
   // Runs until the mission is done or failed or `seconds` pass; the robot follows the twist.

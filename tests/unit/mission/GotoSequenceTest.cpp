@@ -87,6 +87,7 @@ struct Taxi {
   GotoConfig cfg;
   Topic<OdometryMsg> odom;
   CityCostmap costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};  // the bus's costmap topic
   std::unique_ptr<GotoMission> mission;
   Pose2 pose{0.5, 0.5, 0.0};
   int tick = 0;
@@ -97,7 +98,7 @@ struct Taxi {
   bool allocations_counted = false;        // update() inside an allocation window
 
   void start() {
-    mission = std::make_unique<GotoMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap);
+    mission = std::make_unique<GotoMission>(cfg, Footprint{0.25, 0.25}, false, odom, costmap_topic);
     mission->enter(MissionContext{});
   }
   // Runs until done or failed or `seconds` pass; the robot follows the twist.

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "firmware/mission/SafetyFields.hpp"
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 #include "tests/unit/perception/ScanScene.hpp"
 
 namespace carril::fw::test {

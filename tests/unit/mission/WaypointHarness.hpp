@@ -136,6 +136,7 @@ struct Bench {
   Topic<OdometryMsg> odom;
   CourseCostmap own;
   CourseCostmap& costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};  // the bus's costmap topic
   std::unique_ptr<WaypointMission> mission;
   Pose2 pose{0.0, 0.0, 0.0};
   int tick = 0;
@@ -154,7 +155,7 @@ struct Bench {
   bool allocations_counted = false;
 
   void start() {
-    mission = std::make_unique<WaypointMission>(cfg, footprint, false, odom, costmap);
+    mission = std::make_unique<WaypointMission>(cfg, footprint, false, odom, costmap_topic);
     mission->enter(MissionContext{});
   }
   double t_s() const { return tick * 0.01; }

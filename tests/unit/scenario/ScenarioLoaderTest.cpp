@@ -8,6 +8,8 @@
 #include "host_sim/scenario/ScenarioLoader.hpp"
 #include "tests/unit/scenario/ScenarioTestUtil.hpp"
 
+#include "firmware/core/Geometry.hpp"
+
 namespace carril::sim {
 namespace {
 
@@ -16,7 +18,7 @@ using test::kFullYaml;
 using test::kMinimalYaml;
 using test::load;
 
-constexpr double kPi = std::numbers::pi;
+using fw::kPi;  // the one pi, firmware/core/Geometry.hpp
 
 double dist(Vec2 a, Vec2 b) {
   return std::hypot(a.x - b.x, a.y - b.y);

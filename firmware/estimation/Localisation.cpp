@@ -1,4 +1,4 @@
-#include "firmware/app/Localisation.hpp"
+#include "firmware/estimation/Localisation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,18 +6,17 @@
 #include <cstdint>
 #include <memory>
 
+#include "firmware/app/Bus.hpp"
 #include "firmware/app/Controller.hpp"
 #include "firmware/app/FirmwareConfig.hpp"
-#include "firmware/app/LineBus.hpp"
-#include "firmware/app/Localisation.hpp"
-#include "firmware/app/Mapping.hpp"
 #include "firmware/app/StatusReporter.hpp"
 #include "firmware/control/MotionOutput.hpp"
 #include "firmware/core/Status.hpp"
-#include "firmware/core/TripleBuffer.hpp"
+#include "firmware/estimation/Localisation.hpp"
 #include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/health/SensorWatch.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
+#include "firmware/mapping/Mapping.hpp"
 #include "firmware/mission/CoverageMission.hpp"
 #include "firmware/mission/FollowLineMission.hpp"
 #include "firmware/mission/GotoMission.hpp"
@@ -26,6 +25,7 @@
 #include "firmware/perception/LinePerception.hpp"
 #include "firmware/perception/ObstacleSensing.hpp"
 #include "hal/Clock.hpp"
+#include "hal/TripleBuffer.hpp"
 
 namespace carril::fw {
 
@@ -56,12 +56,20 @@ struct TaskRates {
 };
 TaskRates task_rates(const FirmwareConfig& c);
 
-class LineFirmware {
+class Firmware {
  public:
   // cfg must have passed validate() (asserted by the wiring file; see Status there).
-  LineFirmware(const FirmwareConfig& cfg, const hal::Clock& clock);
-  LineFirmware(const LineFirmware&) = delete;
-  LineFirmware& operator=(const LineFirmware&) = delete;
+  Firmware(const FirmwareConfig& cfg, const hal::Clock& clock);
+  Firmware(const Firmware&) = delete;
+  Firmware& operator=(const Firmware&) = delete;
+
+  // The components' set-up at init: the first that failed (a configuration validate() let
+  // through); the wiring refuses to run a firmware whose set-up failed.
+  Status init_status() const;
+
+  // Init only: the task table, the same on every target (the target adds only its slow rate
+  // group): which component runs at what rate and offset, with FirmwareConfig::tasks' budgets.
+  Status declare_tasks();
 
   // One control period.
   ActuatorCommand tick(const SensorFrame& frame) { return controller.tick(frame); }
@@ -80,7 +88,7 @@ class LineFirmware {
   // The map a coverage mission reads when none is configured (empty).
   static inline const OccupancyGrid no_map_{};
   const DriveKinematics kinematics;
-  LineBus bus;
+  Bus bus;
   // The components, in the order data flows through them.
   Controller controller;  // the schedule and the fault latch (the FaultSink of the others)
   SensorWatch watch;
@@ -97,7 +105,7 @@ class LineFirmware {
   MissionRunner runner;  // runs the configured one of the missions above
   MotionOutput output;
   // Control loop -> slow rate group: the newest status snapshot (read by a StatusReporter).
-  TripleBuffer<StatusSnapshot> status;
+  hal::TripleBuffer<StatusSnapshot> status;
 
  private:
   // The mission of that kind (members above are constructed before the runner takes one).

@@ -17,12 +17,9 @@
 // jumped) the obstacle layer is forgotten: marks made from a wrong pose are phantom walls.
 #include <cstdint>
 
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/RingBuffer.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
-#include "firmware/mapping/CostmapView.hpp"
 #include "firmware/mapping/ElevationLayer.hpp"
 #include "firmware/mapping/LayeredCostmap.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
@@ -30,6 +27,10 @@
 #include "firmware/mapping/StaticLayer.hpp"
 #include "firmware/mapping/TerrainAnalysis.hpp"
 #include "firmware/mapping/TraversabilityLayer.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/CostmapView.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 namespace carril::fw {
 
@@ -51,6 +52,7 @@ struct MappingConfig {
   int fuse_cells_per_tick = 2000;    // binned cells fused into the elevation map per tick [cells]
 
   Status validate() const;
+  bool operator==(const MappingConfig&) const = default;
 };
 
 // The costmap window for a known map: the map's resolution, its extent plus a cell on each side
@@ -72,12 +74,16 @@ class Mapping final : public CostmapView {
  public:
   // Allocates every grid (init time). cfg must have passed validate(). pose is the robot's pose
   // in the costmap's frame: odometry, or on a known map (static_map non-null, not empty, and
-  // outliving this) the localised pose in the map frame.
+  // outliving this) the localised pose in the map frame. When enabled, publishes itself on
+  // costmap (if given) at once: the missions read the costmap through that topic.
   Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-          const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map = nullptr);
+          const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map = nullptr,
+          Topic<CostmapMsg>* costmap = nullptr);
 
-  // Task: one tick of mapping work.
+  // Task: one tick of mapping work (none when init failed).
   void run();
+  // The first grid that could not be set up at init (ok when all were, or when disabled).
+  const Status& init_status() const { return init_; }
 
   const RollingGrid<std::uint8_t>& master() const override { return costmap_.master(); }
   const RollingGrid<std::uint8_t>& obstacles() const override { return costmap_.obstacle_layer(); }
@@ -100,6 +106,9 @@ class Mapping final : public CostmapView {
 
  private:
   MappingConfig cfg_;
+  Status init_;
+  // Keeps the first failure of an init step in init_; the step's success.
+  bool take(const Status& s);
   const Topic<SensorFrame>& frame_;
   const Topic<OdometryMsg>& odom_;
   const OccupancyGrid* static_map_ = nullptr;

@@ -1,24 +1,12 @@
 #pragma once
-// What one tick consumes and produces.
+// Message `command`: what one tick produces for the drives.
 #include <array>
 #include <cstdint>
 
 #include "firmware/core/Geometry.hpp"
-#include "hal/PointCloud.hpp"
 #include "hal/Types.hpp"
 
 namespace carril::fw {
-
-// Sensor snapshot assembled from the HAL before each tick. Pointers reference HAL-owned buffers,
-// valid for this tick only; nullptr when the device has delivered nothing.
-struct SensorFrame {
-  hal::TimeNs now_ns = 0;  // loop time [ns]
-  const hal::CameraFrame* camera = nullptr;
-  const hal::LaserScan* scan = nullptr;
-  const hal::PointCloud* cloud = nullptr;  // 3D lidar sweep; nullptr without one
-  hal::ImuSample imu{};
-  hal::WheelFeedbackSet wheels{};
-};
 
 enum class DriveRequest : std::uint8_t {
   Disable,    // drives off
@@ -41,5 +29,12 @@ struct ActuatorCommand {
   std::array<float, hal::kMaxWheels> wheel_radps{};  // setpoints [rad/s]
   Twist twist;                                       // body twist these come from [m/s, rad/s]
 };
+
+// The safe stop, written once: brake to zero and hold, every setpoint and the twist zero.
+inline void quick_stop(ActuatorCommand& c) {
+  c.drive = DriveRequest::QuickStop;
+  c.wheel_radps.fill(0.0F);
+  c.twist = {};
+}
 
 }  // namespace carril::fw

@@ -6,11 +6,12 @@
 //
 // Cells are addressed by their global index cx = floor(x / resolution) (world frame). The window
 // covers [origin_cx, origin_cx + nx) x [origin_cy, origin_cy + ny).
-#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+
+#include "firmware/core/Check.hpp"
 
 namespace carril::fw {
 
@@ -57,13 +58,14 @@ class RollingGrid {
     return contains(cx, cy);
   }
 
-  // Cell by global index (asserted inside the window).
+  // Cell by global index (checked inside the window; outside, the index wraps to a cell of the
+  // storage all the same, so a failed check never touches memory outside it).
   T& at(int cx, int cy) {
-    assert(contains(cx, cy));
+    CARRIL_CHECK(contains(cx, cy));
     return cells_[index(cx, cy)];
   }
   const T& at(int cx, int cy) const {
-    assert(contains(cx, cy));
+    CARRIL_CHECK(contains(cx, cy));
     return cells_[index(cx, cy)];
   }
   // Cell by window index: lx in [0, nx), ly in [0, ny) from the window's lower-left corner.

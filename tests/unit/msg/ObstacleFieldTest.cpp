@@ -8,7 +8,7 @@
 #include <limits>
 #include <memory>
 
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 
 namespace carril::fw {
 namespace {

@@ -1,4 +1,4 @@
-#include "firmware/app/Mapping.hpp"
+#include "firmware/mapping/Mapping.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -49,30 +49,41 @@ Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
 }
 
 Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-                 const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map)
+                 const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map,
+                 Topic<CostmapMsg>* costmap)
     : cfg_(cfg), frame_(frame), odom_(pose) {
   if (!cfg_.enabled) return;
+  // The view is this object: it reads "no master yet" (updates() 0) until the first rebuild.
+  if (costmap != nullptr) costmap->publish(CostmapMsg{this}, 0);
   if (static_map != nullptr && !static_map->empty()) {
     static_map_ = static_map;
     cfg_.costmap = costmap_for_map(cfg_.costmap, static_map->info());
     cfg_.terrain = false;
   }
-  // Init failures are configuration errors validate() already rejected.
-  (void)costmap_.init(cfg_.costmap);
+  // Init failures are configuration errors validate() should have rejected: kept in init_status()
+  // (the wiring refuses to start), and run() does nothing.
+  if (!take(costmap_.init(cfg_.costmap))) return;
   master_divisor_ = std::max<std::uint32_t>(
       1, static_cast<std::uint32_t>(std::lround(tick_rate_hz / cfg_.master_rate_hz)));
   if (cfg_.terrain) {
-    (void)elevation_.init(cfg_.elevation);
-    (void)analysis_.init(cfg_.analysis, cfg_.costmap.nx(), cfg_.costmap.ny(),
-                         cfg_.costmap.resolution_m);
-    (void)traversability_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+    if (!take(elevation_.init(cfg_.elevation)) ||
+        !take(analysis_.init(cfg_.analysis, cfg_.costmap.nx(), cfg_.costmap.ny(),
+                             cfg_.costmap.resolution_m)) ||
+        !take(traversability_.init(cfg_.costmap.nx(), cfg_.costmap.ny(),
+                                   cfg_.costmap.resolution_m))) {
+      return;
+    }
   }
   if (static_map_ != nullptr) {
     // One window over the whole map, placed once.
     const MapInfo& m = static_map_->info();
     const double cx = m.origin_x_m + 0.5 * m.nx * m.resolution_m;
     const double cy = m.origin_y_m + 0.5 * m.ny * m.resolution_m;
-    (void)static_layer_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+    if (!static_layer_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m)) {
+      take(Status::error("mapping: the static layer's %d x %d cells could not be set up",
+                         cfg_.costmap.nx(), cfg_.costmap.ny()));
+      return;
+    }
     static_layer_.place(*static_map_, cx, cy);
     costmap_.recenter(cx, cy);
     const RollingGrid<std::uint8_t>* layers[] = {&static_layer_.grid()};
@@ -88,8 +99,13 @@ Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<Sens
   }
 }
 
+bool Mapping::take(const Status& s) {
+  if (!s && init_) init_ = s;
+  return static_cast<bool>(s);
+}
+
 void Mapping::run() {
-  if (!cfg_.enabled) return;
+  if (!cfg_.enabled || !init_) return;
   const SensorFrame& f = frame_.get();
   const Pose2 pose = odom_.get().pose;
   if (!started_) {

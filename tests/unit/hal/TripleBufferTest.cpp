@@ -1,4 +1,4 @@
-#include "firmware/core/TripleBuffer.hpp"
+#include "hal/TripleBuffer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-namespace carril::fw {
+namespace carril::hal {
 namespace {
 
 TEST(TripleBufferTest, NothingBeforeTheFirstPublish) {
@@ -115,4 +115,4 @@ TEST(TripleBufferTest, TwoThreadsNeverSeeATornValue) {
 }
 
 }  // namespace
-}  // namespace carril::fw
+}  // namespace carril::hal

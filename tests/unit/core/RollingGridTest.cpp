@@ -1,4 +1,4 @@
-#include "firmware/mapping/RollingGrid.hpp"
+#include "firmware/core/RollingGrid.hpp"
 
 #include <gtest/gtest.h>
 

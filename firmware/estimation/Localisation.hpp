@@ -14,15 +14,16 @@
 #include <cstdint>
 
 #include <memory>
-#include "firmware/core/Frames.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
+#include "firmware/msg/ActuatorCommand.hpp"
+#include "firmware/msg/SensorFrame.hpp"
 
 #include "firmware/estimation/AliasSearch.hpp"
 #include "firmware/estimation/BeamsThroughWalls.hpp"
 #include "firmware/estimation/MonteCarloLocalizer.hpp"
-#include "firmware/estimation/WheelOdometry.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
+#include "firmware/msg/OdometryMsg.hpp"
 
 namespace carril::fw {
 
@@ -99,6 +100,7 @@ struct LocalisationConfig {
   double alias_hypothesis_sigma_yaw_rad = 0.05;
 
   Status validate() const;
+  bool operator==(const LocalisationConfig&) const = default;
 };
 
 struct LocalisationTelemetry {
@@ -140,6 +142,8 @@ class Localisation {
   // Task: one tick of localisation work, then the pose out.
   void run();
   const LocalisationTelemetry& telemetry() const;
+  // The filter's set-up (ok without a map).
+  Status init_status() const { return mcl_ ? mcl_->status() : Status::ok(); }
   // The correction map <- odom in use.
   const Pose2& map_from_odom() const { return map_from_odom_; }
   // The filter (nullptr without a map).

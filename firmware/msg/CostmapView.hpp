@@ -1,10 +1,11 @@
 #pragma once
-// What the missions read of the costmap: the master grid (every layer combined and inflated) and
-// a counter that changes whenever the master is rebuilt. Implemented by the firmware's mapping
-// component; a test can implement it over any grid.
+// Message `costmap`: what the missions read of the costmap, the master grid (every layer combined
+// and inflated) and a counter that changes whenever the master is rebuilt. A read-only view:
+// implemented by the mapping component (firmware/mapping/Mapping), which publishes it on the bus
+// once at init; a test can implement it over any grid.
 #include <cstdint>
 
-#include "firmware/mapping/RollingGrid.hpp"
+#include "firmware/core/RollingGrid.hpp"
 
 namespace carril::fw {
 
@@ -21,6 +22,12 @@ class CostmapView {
   virtual const RollingGrid<std::uint8_t>* walls() const { return nullptr; }
   // Increments at every rebuild of master(); 0 = never built.
   virtual std::uint32_t updates() const = 0;
+};
+
+// The costmap topic's message: the view, published once by its owner (nullptr: no costmap is
+// built, as when FirmwareConfig::mapping is off).
+struct CostmapMsg {
+  const CostmapView* view = nullptr;
 };
 
 }  // namespace carril::fw

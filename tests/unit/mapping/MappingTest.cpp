@@ -3,7 +3,7 @@
 // is published before the first cycle completes; a sweep replaced while it is being binned is
 // abandoned, and nothing of it reaches the map. On a known map: scans are marked only while the
 // pose is localised, and a relocalisation (the pose may have jumped) forgets the obstacle layer.
-#include "firmware/app/Mapping.hpp"
+#include "firmware/mapping/Mapping.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "firmware/perception/ObstacleField.hpp"
+#include "firmware/msg/ObstacleField.hpp"
 
 #include <cmath>
 

@@ -4,7 +4,7 @@
 // scans stop fitting (before the spread widens), finds itself again and counts the jump; started
 // with nothing known, it spreads again from a room that fits the scans only with returns through
 // that room's walls.
-#include "firmware/app/Localisation.hpp"
+#include "firmware/estimation/Localisation.hpp"
 
 #include <gtest/gtest.h>
 

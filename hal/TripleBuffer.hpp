@@ -6,11 +6,13 @@
 // time, so the reader never sees a half-written value. Values the reader did not fetch in time
 // are replaced by newer ones (latest wins), which is what a slow rate group handing results to
 // the tick wants. Each published value carries a sequence number (1, 2, ...), so the reader
-// knows whether it is new and how many it missed.
+// knows whether it is new and how many it missed. The one triple buffer: the device threads
+// (the SCIP lidar's reader) and the firmware's rate groups both use it. The slots live inside the
+// object: allocate a buffer of large values (a scan) with its owner, at init.
 #include <atomic>
 #include <cstdint>
 
-namespace carril::fw {
+namespace carril::hal {
 
 template <typename T>
 class TripleBuffer {
@@ -66,4 +68,4 @@ class TripleBuffer {
   alignas(64) std::uint32_t front_ = 0;  // reader's
 };
 
-}  // namespace carril::fw
+}  // namespace carril::hal
