@@ -87,9 +87,6 @@ BuildResult rejected(std::string error, const fw::Status& st) {
 void apply_mapping(const RobotSpec& r, bool goto_mission, fw::FirmwareConfig& c) {
   fw::MappingConfig& m = c.mapping;
   m.enabled = r.lidar.present || (goto_mission && r.lidar3d.present);
-  m.lidar_x_m = r.lidar.x_m;
-  m.lidar_y_m = r.lidar.y_m;
-  m.lidar_yaw_rad = r.lidar.yaw_deg * kDeg;
   m.costmap.inflation.inscribed_radius_m = 0.5 * r.width_m;
   m.costmap.inflation.inflation_radius_m = std::max(0.55, 0.5 * r.width_m + 0.3);
   m.terrain = goto_mission && r.lidar3d.present;

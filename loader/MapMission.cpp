@@ -17,7 +17,6 @@ void configure_for_map(const RobotSpec& robot, const LocalisationStartSpec& star
                        : default_pose;
   l.initial_sigma_xy_m = start.initial_sigma_xy_m;
   l.initial_sigma_yaw_rad = start.initial_sigma_yaw_rad;
-  l.lidar_mount = {c.lidar.x_m, c.lidar.y_m, c.lidar.yaw_rad};
   l.mcl.laser_max_range_m = robot.lidar.range_max_m;
   // The robot file's model of its lidar and odometry (the firmware's defaults where it is silent).
   const LocalisationModelSpec& m = robot.localisation;

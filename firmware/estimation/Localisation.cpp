@@ -44,10 +44,10 @@ Status LocalisationConfig::validate() const {
       .result();
 }
 
-Localisation::Localisation(const LocalisationConfig& cfg, const OccupancyGrid* map,
-                           const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
-                           Topic<OdometryMsg>& pose)
-    : cfg_(cfg), map_(map), frame_(frame), odom_(odom), out_(pose) {
+Localisation::Localisation(const LocalisationConfig& cfg, const Pose2& lidar_mount,
+                           const OccupancyGrid* map, const Topic<SensorFrame>& frame,
+                           const Topic<OdometryMsg>& odom, Topic<OdometryMsg>& pose)
+    : cfg_(cfg), lidar_mount_(lidar_mount), map_(map), frame_(frame), odom_(odom), out_(pose) {
   if (!cfg_.enabled || map_ == nullptr) return;
   // The odometry frame starts where the robot does: at the initial pose in the map frame.
   map_from_odom_ = cfg_.initial_pose;
@@ -88,12 +88,11 @@ void Localisation::take_spread() {
 // the costmap marks that scan and before the missions act on the wrong pose.
 void Localisation::check_fit(const hal::LaserScan& scan, const Pose2& odom_pose) {
   const Pose2 pose = compose(map_from_odom_, odom_pose);
-  const double fit = mcl_->scan_fit(scan, pose, cfg_.lidar_mount);
+  const double fit = mcl_->scan_fit(scan, pose, lidar_mount_);
   if (std::isnan(fit) || seen_updates_ == 0) return;  // no beam, or no estimate yet
-  tel_.through_fraction =
-      beams_through_walls(*map_, scan, pose, cfg_.lidar_mount, cfg_.mcl.max_beams,
-                          cfg_.mcl.laser_max_range_m, cfg_.through_margin_m)
-          .fraction();
+  tel_.through_fraction = beams_through_walls(*map_, scan, pose, lidar_mount_, cfg_.mcl.max_beams,
+                                              cfg_.mcl.laser_max_range_m, cfg_.through_margin_m)
+                              .fraction();
   // Told where it starts, the first convergence needs no proof; spread over the map it does.
   const bool proven = ever_localised_ || cfg_.global;
   if (fit_decay_ >= 1.0) {
@@ -152,7 +151,7 @@ void Localisation::reset_fitting() {
 
 bool Localisation::no_alias(const hal::LaserScan& scan, const Pose2& pose, const Pose2& odom_pose) {
   if (alias_ == nullptr || alias_clear_) return true;
-  if (!alias_->busy() && alias_->begin(scan, pose, cfg_.lidar_mount)) alias_odom_ = odom_pose;
+  if (!alias_->busy() && alias_->begin(scan, pose, lidar_mount_)) alias_odom_ = odom_pose;
   return false;
 }
 
@@ -221,7 +220,7 @@ void Localisation::run() {
       // then all the same.
       const auto period_ns = std::int64_t(cfg_.unlocalised_update_period_s * 1e9);
       if (!localised_ && f.now_ns - last_update_ns_ >= period_ns) mcl_->force_next_update();
-      if (mcl_->begin_update(*f.scan, o.pose, cfg_.lidar_mount)) last_update_ns_ = f.now_ns;
+      if (mcl_->begin_update(*f.scan, o.pose, lidar_mount_)) last_update_ns_ = f.now_ns;
     } else if (mcl_->busy()) {
       (void)mcl_->step(particle_budget());
     }

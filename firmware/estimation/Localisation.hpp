@@ -35,8 +35,6 @@ struct LocalisationConfig {
   double initial_sigma_yaw_rad = 0.35;  // [rad]
   MclConfig mcl;
   int particles_per_tick = 500;  // the filter's work per tick (~0.1 ms) [particles]
-  // The 2D lidar's mount in the robot frame [m, m, rad].
-  Pose2 lidar_mount;
   // Localised while the estimate's standard deviation stays within these (and lost beyond twice
   // them): the missions drive only then [m], [rad].
   double localised_sigma_xy_m = 0.15;
@@ -135,7 +133,8 @@ Pose2 inverse(const Pose2& p);
 class Localisation {
  public:
   // map: the static map (non-null when cfg.enabled; must outlive this).
-  Localisation(const LocalisationConfig& cfg, const OccupancyGrid* map,
+  // lidar_mount: the 2D lidar in the robot frame (ObstacleSensingConfig::mount()) [m, m, rad].
+  Localisation(const LocalisationConfig& cfg, const Pose2& lidar_mount, const OccupancyGrid* map,
                const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& odom,
                Topic<OdometryMsg>& pose);
 
@@ -151,6 +150,7 @@ class Localisation {
 
  private:
   LocalisationConfig cfg_;
+  Pose2 lidar_mount_;
   const OccupancyGrid* map_;
   const Topic<SensorFrame>& frame_;
   const Topic<OdometryMsg>& odom_;

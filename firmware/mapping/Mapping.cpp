@@ -48,10 +48,10 @@ Pose3 Mapping::pose_at(hal::TimeNs t_ns) const {
   return best;
 }
 
-Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-                 const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map,
-                 Topic<CostmapMsg>* costmap)
-    : cfg_(cfg), frame_(frame), odom_(pose) {
+Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Pose2& lidar_mount,
+                 const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& pose,
+                 const OccupancyGrid* static_map, Topic<CostmapMsg>* costmap)
+    : cfg_(cfg), lidar_mount_(lidar_mount), frame_(frame), odom_(pose) {
   if (!cfg_.enabled) return;
   // The view is this object: it reads "no master yet" (updates() 0) until the first rebuild.
   if (costmap != nullptr) costmap->publish(CostmapMsg{this}, 0);
@@ -145,9 +145,9 @@ void Mapping::run() {
     ++tel_.scans_unlocalised;
   } else if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
     last_scan_seq_ = f.scan->seq;
-    const Vec2 s = to_world(pose, Vec2(cfg_.lidar_x_m, cfg_.lidar_y_m));
+    const Vec2 s = to_world(pose, Vec2(lidar_mount_.x, lidar_mount_.y));
     costmap_.update_obstacles(*f.scan,
-                              Pose2{s.x(), s.y(), wrap_angle(pose.yaw + cfg_.lidar_yaw_rad)});
+                              Pose2{s.x(), s.y(), wrap_angle(pose.yaw + lidar_mount_.yaw)});
     ++tel_.scans;
     scanned = true;
   }

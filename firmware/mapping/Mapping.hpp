@@ -38,8 +38,6 @@ struct MappingConfig {
   bool enabled = false;  // build a costmap at all (goto needs one; follow_line uses it to avoid)
   CostmapConfig costmap;
   double master_rate_hz = 5.0;  // master rebuilds per second [Hz]
-  // The 2D lidar's mount (from the robot's lidar section).
-  double lidar_x_m = 0.0, lidar_y_m = 0.0, lidar_yaw_rad = 0.0;
   // Terrain: a 3D lidar is fitted and the traversability layer is built from it.
   bool terrain = false;
   SensorMount lidar3d;
@@ -76,9 +74,10 @@ class Mapping final : public CostmapView {
   // in the costmap's frame: odometry, or on a known map (static_map non-null, not empty, and
   // outliving this) the localised pose in the map frame. When enabled, publishes itself on
   // costmap (if given) at once: the missions read the costmap through that topic.
-  Mapping(const MappingConfig& cfg, double tick_rate_hz, const Topic<SensorFrame>& frame,
-          const Topic<OdometryMsg>& pose, const OccupancyGrid* static_map = nullptr,
-          Topic<CostmapMsg>* costmap = nullptr);
+  // lidar_mount: the 2D lidar in the robot frame (ObstacleSensingConfig::mount()) [m, m, rad].
+  Mapping(const MappingConfig& cfg, double tick_rate_hz, const Pose2& lidar_mount,
+          const Topic<SensorFrame>& frame, const Topic<OdometryMsg>& pose,
+          const OccupancyGrid* static_map = nullptr, Topic<CostmapMsg>* costmap = nullptr);
 
   // Task: one tick of mapping work (none when init failed).
   void run();
@@ -106,6 +105,7 @@ class Mapping final : public CostmapView {
 
  private:
   MappingConfig cfg_;
+  Pose2 lidar_mount_;
   Status init_;
   // Keeps the first failure of an init step in init_; the step's success.
   bool take(const Status& s);

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
+#include "firmware/core/Geometry.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/health/SensorHealth.hpp"
@@ -26,6 +27,9 @@ struct ObstacleSensingConfig {
 
   Status validate() const;
   bool operator==(const ObstacleSensingConfig&) const = default;
+  // The mount as a pose in the robot frame: the one declaration of where the 2D lidar sits, which
+  // the obstacle field, the costmap and the localiser all take [m, m, rad].
+  Pose2 mount() const { return {x_m, y_m, yaw_rad}; }
 };
 
 struct ObstacleSensingTelemetry {

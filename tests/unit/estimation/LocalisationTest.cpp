@@ -72,7 +72,7 @@ struct Rig {
 TEST(Localisation, WithoutAMapThePoseIsTheOdometryBitForBit) {
   Rig r;
   LocalisationConfig cfg;
-  Localisation l(cfg, nullptr, r.frame, r.odom, r.pose);
+  Localisation l(cfg, Pose2{}, nullptr, r.frame, r.odom, r.pose);
   r.odom.edit().pose = {1.0 / 3.0, -2.0 / 7.0, 3.1};
   r.tick(l, 0, nullptr);
   EXPECT_EQ(r.pose.get().pose.x, 1.0 / 3.0);
@@ -97,7 +97,7 @@ TEST(Localisation, OnAMapItConvergesOntoTheTruePoseAndOnlyThenIsLocalised) {
   cfg.mcl.sigma_hit_m = 0.1;
   cfg.mcl.laser_max_range_m = 8.0;
   ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
-  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
+  Localisation l(cfg, Pose2{}, &map, r.frame, r.odom, r.pose);
   ASSERT_NE(l.filter(), nullptr);
   ASSERT_TRUE(l.filter()->status().is_ok()) << l.filter()->status().message();
   // The robot stands still at the true pose; its odometry starts at zero.
@@ -159,7 +159,7 @@ TEST(Localisation, AKidnapIsLostByTheFitBeforeTheSpreadWidensThenFoundAgainAsAJu
   cfg.mcl.alpha_slow = 0.001;  // augmented MCL on (the MclConfig defaults)
   cfg.mcl.alpha_fast = 0.1;
   ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
-  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
+  Localisation l(cfg, Pose2{}, &map, r.frame, r.odom, r.pose);
   Turn turn{r, l, map};
   double yaw = 0.0;
   const Pose2 start{-1.5, 0.8, 0.0};
@@ -245,7 +245,7 @@ std::vector<OdometryMsg> turn_in_room_a(const OccupancyGrid& map, const Localisa
                                         int n, LocalisationTelemetry& tel) {
   EXPECT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
   Rig r;
-  Localisation l(cfg, &map, r.frame, r.odom, r.pose);
+  Localisation l(cfg, Pose2{}, &map, r.frame, r.odom, r.pose);
   Turn turn{r, l, map};
   double yaw = 0.0;
   std::vector<OdometryMsg> out;

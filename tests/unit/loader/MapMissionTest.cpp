@@ -113,7 +113,6 @@ TEST(MapMission, ConfiguresLocalisationOnTheMap) {
   EXPECT_DOUBLE_EQ(c.localisation.initial_pose.x, 0.5);
   EXPECT_DOUBLE_EQ(c.localisation.initial_pose.y, -1.0);
   EXPECT_NEAR(c.localisation.initial_pose.yaw, std::numbers::pi / 2.0, 1e-12);
-  EXPECT_DOUBLE_EQ(c.localisation.lidar_mount.x, c.lidar.x_m);
   EXPECT_DOUBLE_EQ(c.localisation.mcl.laser_max_range_m, r.lidar.range_max_m);
   // Recovery off by default (AMCL's): no random injection.
   EXPECT_EQ(c.localisation.mcl.alpha_fast, 0.0);

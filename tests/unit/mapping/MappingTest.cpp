@@ -41,7 +41,7 @@ struct Rig {
 
   Rig() {
     EXPECT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
-    mapping = std::make_unique<Mapping>(cfg, kRateHz, frame, odom);
+    mapping = std::make_unique<Mapping>(cfg, kRateHz, Pose2{}, frame, odom);
   }
   void tick(const hal::PointCloud* cloud) {
     now += kTickNs;
@@ -178,7 +178,7 @@ TEST(MappingTest, OnAMapScansMarkOnlyWhileLocalisedAndARelocalisationForgetsTheM
   ASSERT_TRUE(cfg.validate().is_ok()) << cfg.validate().message();
   Topic<SensorFrame> frame;
   Topic<OdometryMsg> pose;
-  Mapping m(cfg, kRateHz, frame, pose, &map);
+  Mapping m(cfg, kRateHz, Pose2{}, frame, pose, &map);
   ASSERT_TRUE(m.on_map());
   hal::TimeNs now = 0;
   auto tick = [&](const hal::LaserScan* scan, bool localised, std::uint32_t relocalisations) {
