@@ -224,7 +224,12 @@ void model_field(const Node& m, const char* key, std::optional<double>& out,
   if (!n) return;
   fw::MclConfig c;
   c.*field = n->number();
-  if (const fw::Status s = c.validate(); !s) n->fail(s.message());
+  if (const fw::Status s = c.validate(); !s) {
+    // The firmware's message begins with its own name of the field; the node names this key.
+    const std::string text = s.message();
+    const std::size_t colon = text.find(": ");
+    n->fail(colon == std::string::npos ? text : text.substr(colon + 2));
+  }
   out = c.*field;
 }
 

@@ -107,6 +107,29 @@ TEST(RobotLoader, ImuAndLidarCanBeNotFitted) {
       << partial.error;
 }
 
+TEST(RobotLoader, TheLocalisationModelIsReadWithTheFirmwaresRanges) {
+  const Loaded preset = load(kCampero);
+  ASSERT_TRUE(preset.ok) << preset.error;
+  EXPECT_EQ(preset.robot.localisation.sigma_hit_m, 0.1);
+  EXPECT_EQ(preset.robot.localisation.alpha4, 0.05);
+  EXPECT_EQ(preset.robot.localisation.surface_distance, true);
+  EXPECT_EQ(preset.robot.localisation.search_sigma_hit_m, 0.2);
+  // Without the section: nothing set, the firmware's defaults stand.
+  const std::string line = kCampero.substr(kCampero.find("\nlocalisation: {") + 1);
+  const Loaded none = load(edit(kCampero, line.substr(0, line.find('\n')), ""));
+  ASSERT_TRUE(none.ok) << none.error;
+  EXPECT_FALSE(none.robot.localisation.sigma_hit_m.has_value());
+  EXPECT_FALSE(none.robot.localisation.surface_distance.has_value());
+  // A value outside MclConfig::validate()'s range names this file, line and key.
+  const Loaded bad = load(edit(kCampero, "sigma_hit_m: 0.1,", "sigma_hit_m: 9,"));
+  const std::string at = std::to_string(
+      std::count(kCampero.begin(), kCampero.begin() + kCampero.find("\nlocalisation"), '\n') + 2);
+  EXPECT_EQ(bad.error,
+            bad.path + ":" + at + ": localisation.sigma_hit_m: 9 m, expected 0.005 to 5 m");
+  const Loaded key = load(edit(kCampero, "alpha4: 0.05,", "alpha5: 0.05,"));
+  EXPECT_NE(key.error.find("localisation.alpha5: unknown key"), std::string::npos) << key.error;
+}
+
 TEST(RobotLoader, StrictErrorsNameFileLineAndKey) {
   const Loaded type = load(kNoImu + "imu: {present: yes}\n");
   EXPECT_EQ(type.error,
