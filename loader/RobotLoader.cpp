@@ -2,7 +2,12 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string_view>
 
+#include "firmware/app/FirmwareConfig.hpp"
+#include "firmware/control/MotionLimiter.hpp"
+#include "firmware/core/Param.hpp"
 #include "firmware/estimation/MclConfig.hpp"
 #include "firmware/kinematics/DriveKinematics.hpp"
 #include "loader/RobotSections.hpp"
@@ -180,17 +185,31 @@ void parse_lidar3d(const Node& m, Lidar3dSpec& l, bool all) {
   }
 }
 
+// The range the firmware's settings table declares for `name` of Cfg, declared once there. A row
+// that is not there is a programming error of this file (every shipped robot file would fail).
+template <class Cfg>
+Range firmware_range(std::string_view name) {
+  for (const fw::Param<Cfg>& p : Cfg::params()) {
+    if (name == p.info.name) return Range::closed(p.info.min, p.info.max);
+  }
+  throw std::logic_error("RobotLoader: no firmware settings row " + std::string(name));
+}
+
+// The robot's motion limits take their ranges from the firmware's table (MotionLimits::params());
+// the wheels' acceleration is the simulator's drive model only.
 void parse_limits(const Node& m, LimitsSpec& l, bool all) {
   m.expect_map({"max_speed_mps", "max_yaw_rate_radps", "max_accel_mps2", "max_wheel_speed_radps",
                 "max_wheel_accel_radps2"});
-  auto get = [&](const char* key, double lo, double hi, double& out) {
-    if (auto n = m.get(key, all)) out = n->number(Range::closed(lo, hi));
+  auto get = [&](const char* key, double& out) {
+    if (auto n = m.get(key, all)) out = n->number(firmware_range<fw::MotionLimits>(key));
   };
-  get("max_speed_mps", 0.05, 5.0, l.max_speed_mps);
-  get("max_yaw_rate_radps", 0.05, 10.0, l.max_yaw_rate_radps);
-  get("max_accel_mps2", 0.05, 20.0, l.max_accel_mps2);
-  get("max_wheel_speed_radps", 0.5, 500.0, l.max_wheel_speed_radps);
-  get("max_wheel_accel_radps2", 0.5, 5000.0, l.max_wheel_accel_radps2);
+  get("max_speed_mps", l.max_speed_mps);
+  get("max_yaw_rate_radps", l.max_yaw_rate_radps);
+  get("max_accel_mps2", l.max_accel_mps2);
+  get("max_wheel_speed_radps", l.max_wheel_speed_radps);
+  if (auto n = m.get("max_wheel_accel_radps2", all)) {
+    l.max_wheel_accel_radps2 = n->number(Range::closed(0.5, 5000.0));
+  }
 }
 
 // Bounds that keep the terrain checks meaningful: 60 deg is beyond any wheeled base, a step of
@@ -259,8 +278,8 @@ RobotSpec parse_preset(const Node& root) {
                 : DriveType::Differential;
   const Node body = root.at("body");
   body.expect_map({"length_m", "width_m", "mass_kg", "shape"});
-  r.length_m = body.at("length_m").number(Range::closed(0.1, 5.0));
-  r.width_m = body.at("width_m").number(Range::closed(0.1, 5.0));
+  r.length_m = body.at("length_m").number(firmware_range<fw::FirmwareConfig>("footprint_length_m"));
+  r.width_m = body.at("width_m").number(firmware_range<fw::FirmwareConfig>("footprint_width_m"));
   r.mass_kg = body.at("mass_kg").number(Range::closed(1.0, 5000.0));
   if (auto n = body.get("shape")) {
     r.round_body = n->one_of({"box", "round"}) == "round";
@@ -275,7 +294,8 @@ RobotSpec parse_preset(const Node& root) {
       wheels.at("radius_m").number(Range::closed(fw::kWheelRadiusMinM, fw::kWheelRadiusMaxM));
   r.wheelbase_m = wheels.at("wheelbase_m").number(kWheelSize);
   r.track_m = wheels.at("track_m").number(kWheelSize);
-  r.control_rate_hz = root.at("control_rate_hz").number(Range::closed(10.0, 1000.0));
+  r.control_rate_hz =
+      root.at("control_rate_hz").number(firmware_range<fw::FirmwareConfig>("control_rate_hz"));
   const Node camera = root.at("camera");
   parse_camera(camera, r.camera, true);
   check_camera_view(camera, r.camera);

@@ -1,11 +1,14 @@
 #pragma once
 // Component tuning by field name. A mission file's `behavior:`, `strategy_gains:` and
-// `tape_preview_m`, and a tuning file's sections, each set one field of fw::FirmwareConfig; the
-// table of what may be set is in Settings.cpp (and docs/configuration.md). Types are checked when
-// the file is read; ranges by the component's own validate(), whose message is then traced back to
-// the file, line and key that set the field.
+// `tape_preview_m`, and a tuning file's sections, each set one field of fw::FirmwareConfig. What
+// may be set, its type, unit, range and meaning are the components' settings tables
+// (firmware/core/Param.hpp); Settings.cpp only says under which key of which file each struct's
+// table is read. Types are checked when the file is read; ranges by the component's validate()
+// (from the same table), whose message is then traced back to the file, line and key.
 #include <string>
 #include <vector>
+
+#include "firmware/core/Param.hpp"
 
 // Declared only: a mission (MissionSpec) holds settings, and code that reads missions without
 // building a configuration (the simulator's scoring) need not see the firmware.
@@ -38,5 +41,19 @@ bool explain_with_settings(const std::vector<Setting>& settings,
 
 // Every key a file of that kind accepts, in table order.
 std::vector<std::string> setting_keys(SettingFile file);
+
+// One key of a file, as its struct's table declares it.
+struct SettingInfo {
+  std::string key;       // in the file: "strategy_gains.pid_curve.kp"
+  std::string field;     // in validate()'s messages: "strategy.pid_curve.kp"
+  fw::ParamInfo info;    // unit, range, meaning
+  bool integer = false;  // an int member: the file must give an integer
+  double default_value;  // a default-constructed FirmwareConfig's (see info.derived)
+};
+std::vector<SettingInfo> settings_info(SettingFile file);
+
+// The markdown table of a file's keys (key, unit, default, range, meaning), as
+// docs/configuration.md shows it; defaults are a default-constructed FirmwareConfig's.
+std::string settings_markdown(SettingFile file);
 
 }  // namespace carril::loader

@@ -1,29 +1,69 @@
 #include "firmware/app/FirmwareConfig.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace carril::fw {
 
+std::span<const Param<TaskBudgets>> TaskBudgets::params() {
+  using C = TaskBudgets;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, health_us, "us", 1.0, 1e6,
+                   "the sensor health rules (SensorWatch): a run over it is an overrun, counted in "
+                   "the task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, odometry_us, "us", 1.0, 1e6,
+                   "wheel odometry: a run over it is an overrun, counted in the task's telemetry "
+                   "and reported as a throttled event"),
+      CARRIL_PARAM(
+          C, localisation_us, "us", 1.0, 1e6,
+          "localisation on the map (a bounded piece of the filter per tick): a run over it is an "
+          "overrun, counted in the task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, perception_us, "us", 1.0, 1e6,
+                   "the tape detector on a camera frame: a run over it is an overrun, counted in "
+                   "the task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, obstacles_us, "us", 1.0, 1e6,
+                   "the lidar scan into the obstacle field: a run over it is an overrun, counted "
+                   "in the task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, mapping_us, "us", 1.0, 1e6,
+                   "one piece of the costmap's work: a run over it is an overrun, counted in the "
+                   "task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, mission_us, "us", 1.0, 1e6,
+                   "the mission runner and its mission (goto's and coverage's plans are spread "
+                   "over ticks within it): a run over it is an overrun, counted in the task's "
+                   "telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, motion_us, "us", 1.0, 1e6,
+                   "the motion limits and the wheel setpoints: a run over it is an overrun, "
+                   "counted in the task's telemetry and reported as a throttled event"),
+      CARRIL_PARAM(C, telemetry_us, "us", 1.0, 1e6,
+                   "the telemetry and status snapshot (10 Hz): a run over it is an overrun, "
+                   "counted in the task's telemetry and reported as a throttled event"),
+  };
+  return kParams;
+}
+
 Status TaskBudgets::validate() const {
-  return Checks("tasks")
-      .range("health_us", health_us, 1.0, 1e6, "us")
-      .range("odometry_us", odometry_us, 1.0, 1e6, "us")
-      .range("localisation_us", localisation_us, 1.0, 1e6, "us")
-      .range("perception_us", perception_us, 1.0, 1e6, "us")
-      .range("obstacles_us", obstacles_us, 1.0, 1e6, "us")
-      .range("mapping_us", mapping_us, 1.0, 1e6, "us")
-      .range("mission_us", mission_us, 1.0, 1e6, "us")
-      .range("motion_us", motion_us, 1.0, 1e6, "us")
-      .range("telemetry_us", telemetry_us, 1.0, 1e6, "us")
-      .result();
+  return Checks("tasks").params(*this, params()).result();
+}
+
+std::span<const Param<FirmwareConfig>> FirmwareConfig::params() {
+  // The robot file's control_rate_hz and body.length_m / width_m: read with these ranges.
+  static constexpr Param<FirmwareConfig> kParams[] = {
+      param(&FirmwareConfig::rate_hz,
+            {"control_rate_hz", "Hz", 10.0, 1000.0, "the control loop's rate: the robot file's",
+             nullptr, false}),
+      CARRIL_PARAM(FirmwareConfig, footprint_length_m, "m", 0.1, 5.0,
+                   "the body's length: the robot file's body.length_m", nullptr, false),
+      CARRIL_PARAM(FirmwareConfig, footprint_width_m, "m", 0.1, 5.0,
+                   "the body's width: the robot file's body.width_m", nullptr, false),
+  };
+  return kParams;
 }
 
 Status FirmwareConfig::validate() const {
   Checks c("robot");
-  c.range("control_rate_hz", rate_hz, 1.0, 10000.0, "Hz")
-      .range("footprint_length_m", footprint_length_m, 0.05, 10.0, "m")
-      .range("footprint_width_m", footprint_width_m, 0.05, 10.0, "m")
+  c.params(*this, params())
       .nested(drive.validate())
       .nested(limits.validate())
       .nested(camera.validate())

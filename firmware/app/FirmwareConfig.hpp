@@ -35,6 +35,8 @@ struct TaskBudgets {
   double motion_us = 20.0;
   double telemetry_us = 50.0;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<TaskBudgets>> params();
   Status validate() const;
   bool operator==(const TaskBudgets&) const = default;
 };
@@ -65,6 +67,8 @@ struct FirmwareConfig {
   // frame, and localisation.enabled must be set.
   const OccupancyGrid* map = nullptr;
 
+  // The robot-level settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<FirmwareConfig>> params();
   Status validate() const;
   // Member by member (map: the same grid object). Two targets configured alike from the same
   // files compare equal (tests/scenario/ConfiguredAlikeTest).

@@ -1,5 +1,7 @@
 #include "firmware/behavior/BypassPlanner.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -344,16 +346,27 @@ void BypassPlanner::refine(const ObstacleField& f, BypassPlan& p,
   set_waypoints(p, first.x());
 }
 
+std::span<const Param<AvoidConfig>> AvoidConfig::params() {
+  using C = AvoidConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, corridor_margin_m, "m", 0.0, 1.0,
+                   "bypass corridor: robot width + this each side"),
+      CARRIL_PARAM(C, clearance_m, "m", 0.0, 2.0, "body-to-obstacle clearance while passing"),
+      CARRIL_PARAM(C, speed_mps, "m/s", 0.01, 2.0, "bypass speed"),
+      CARRIL_PARAM(C, emergency_m, "m", 0.0, 1.0,
+                   "anything this close to the body stops the robot"),
+      CARRIL_PARAM(C, max_lateral_m, "m", 0.1, 20.0, "never detour further from the tape"),
+      CARRIL_PARAM(C, blocked_timeout_s, "s", 0.1, 60.0,
+                   "stopped this long by something in the way: give up"),
+      CARRIL_PARAM(C, lookahead_m, "m", 0.1, 20.0,
+                   "only an obstacle starting this close ahead of the bumper (along the tape, "
+                   "after aligning) is planned round"),
+  };
+  return kParams;
+}
+
 Status AvoidConfig::validate() const {
-  return Checks("behavior.avoid")
-      .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
-      .range("clearance_m", clearance_m, 0.0, 2.0, "m")
-      .range("speed_mps", speed_mps, 0.01, 2.0, "m/s")
-      .range("emergency_m", emergency_m, 0.0, 1.0, "m")
-      .range("max_lateral_m", max_lateral_m, 0.1, 20.0, "m")
-      .range("blocked_timeout_s", blocked_timeout_s, 0.1, 60.0, "s")
-      .range("lookahead_m", lookahead_m, 0.1, 20.0, "m")
-      .result();
+  return Checks("behavior.avoid").params(*this, params()).result();
 }
 
 }  // namespace carril::fw

@@ -26,6 +26,8 @@ struct AvoidConfig {
   // a wall far down the tape is not in the way yet [m].
   double lookahead_m = 2.0;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<AvoidConfig>> params();
   Status validate() const;
   bool operator==(const AvoidConfig&) const = default;
 };

@@ -1,5 +1,7 @@
 #include "firmware/behavior/LineBehavior.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <cmath>
 
 namespace carril::fw {
@@ -386,27 +388,41 @@ BehaviorOutput LineBehavior::end(const BehaviorInput& in) {
 
 namespace carril::fw {
 
+std::span<const Param<BehaviorConfig>> BehaviorConfig::params() {
+  using C = BehaviorConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, init_timeout_s, "s", 0.1, 60.0, "drives and sensors must be up by then"),
+      CARRIL_PARAM(C, search_yaw_rate_radps, "rad/s", 0.05, 5.0, "turning speed while searching"),
+      CARRIL_PARAM(C, start_max_turn_rad, "rad", 0.5, 20.0,
+                   "START gives up after this much turning without tape"),
+      CARRIL_PARAM(C, lost_frames, "frames", 1, 100, "frames without tape before the tape is lost"),
+      CARRIL_PARAM(C, memory_trust_m, "m", 0.05, 10.0,
+                   "remembered tape unconfirmed over this distance is not trusted"),
+      CARRIL_PARAM(C, memory_trust_s, "s", 0.1, 100.0, "... or this long"),
+      CARRIL_PARAM(C, pid_lost_grace_s, "s", 0.0, 10.0,
+                   "pid turns toward the last error this long first"),
+      CARRIL_PARAM(C, end_approach_m, "m", 0.05, 5.0, "END when the mark is this close"),
+      CARRIL_PARAM(C, end_speed_mps, "m/s", 0.01, 2.0, "approach speed onto the mark"),
+      CARRIL_PARAM(C, end_gain, "1/s", 0.1, 20.0, "approach speed per metre to the mark"),
+      CARRIL_PARAM(C, end_tolerance_m, "m", 0.0005, 0.5, "stop this close to the mark"),
+      CARRIL_PARAM(C, align_tolerance_rad, "rad", 0.001, 0.5, "heading alignment done within this"),
+      CARRIL_PARAM(C, start_on_tape_lateral_m, "m", 0.0, 1.0,
+                   "visible tape this close to the centre line ..."),
+      CARRIL_PARAM(C, start_on_tape_angle_rad, "rad", 0.0, 1.6,
+                   "... and this well aligned: already on the tape"),
+      CARRIL_PARAM(C, reacquire_on_path_m, "m", 0.0, 5.0,
+                   "tape seen this close to the lost tape is that tape"),
+      CARRIL_PARAM(C, end_reach_m, "m", 0.0, 20.0,
+                   "a known end mark this close where the tape runs out is the end"),
+      CARRIL_PARAM(C, end_reveal_m, "m", 0.0, 5.0,
+                   "no end mark known, but one glimpsed cut by the image edge this close where the "
+                   "tape runs out: back up at most this far (once) to see it whole"),
+  };
+  return kParams;
+}
+
 Status BehaviorConfig::validate() const {
-  return Checks("behavior")
-      .range("init_timeout_s", init_timeout_s, 0.1, 60.0, "s")
-      .range("search_yaw_rate_radps", search_yaw_rate_radps, 0.05, 5.0, "rad/s")
-      .range("start_max_turn_rad", start_max_turn_rad, 0.5, 20.0, "rad")
-      .range("lost_frames", lost_frames, 1, 100, "frames")
-      .range("memory_trust_m", memory_trust_m, 0.05, 10.0, "m")
-      .range("memory_trust_s", memory_trust_s, 0.1, 100.0, "s")
-      .range("pid_lost_grace_s", pid_lost_grace_s, 0.0, 10.0, "s")
-      .range("end_approach_m", end_approach_m, 0.05, 5.0, "m")
-      .range("end_speed_mps", end_speed_mps, 0.01, 2.0, "m/s")
-      .range("end_gain", end_gain, 0.1, 20.0, "1/s")
-      .range("end_tolerance_m", end_tolerance_m, 0.0005, 0.5, "m")
-      .range("align_tolerance_rad", align_tolerance_rad, 0.001, 0.5, "rad")
-      .range("start_on_tape_lateral_m", start_on_tape_lateral_m, 0.0, 1.0, "m")
-      .range("start_on_tape_angle_rad", start_on_tape_angle_rad, 0.0, 1.6, "rad")
-      .range("reacquire_on_path_m", reacquire_on_path_m, 0.0, 5.0, "m")
-      .range("end_reach_m", end_reach_m, 0.0, 20.0, "m")
-      .range("end_reveal_m", end_reveal_m, 0.0, 5.0, "m")
-      .nested(avoid.validate())
-      .result();
+  return Checks("behavior").params(*this, params()).nested(avoid.validate()).result();
 }
 
 }  // namespace carril::fw

@@ -74,6 +74,8 @@ struct BehaviorConfig {
   double end_reveal_m = 1.0;
   AvoidConfig avoid;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<BehaviorConfig>> params();
   Status validate() const;
   bool operator==(const BehaviorConfig&) const = default;
 };

@@ -1,5 +1,7 @@
 #include "firmware/control/LineController.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -118,29 +120,55 @@ Twist LineController::lost(double /*dt_s*/) {
 
 namespace carril::fw {
 
+std::span<const Param<StrategyConfig>> StrategyConfig::params() {
+  using C = StrategyConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, speed_mps, "m/s", 0.01, 5.0, "cruise speed: the mission's speed_mps", nullptr,
+                   false),
+      CARRIL_PARAM(C, marks_lookahead_m, "m", 0.01, 5.0, "marks: look-ahead point on the tape"),
+      CARRIL_PARAM(C, lp_k_lateral, "1/s", 0.0, 50.0,
+                   "line_priority: lateral speed per metre of offset"),
+      CARRIL_PARAM(C, lp_k_angle, "1/s", 0.0, 50.0,
+                   "line_priority: yaw rate per radian of tape angle"),
+      CARRIL_PARAM(C, lp_k_lateral_w, "rad/s per m", -50.0, 50.0,
+                   "line_priority: yaw rate per metre of offset subtracted"),
+      CARRIL_PARAM(C, pid_lookahead_m, "m", 0.0, 5.0,
+                   "pid: the error is the offset this far ahead"),
+      CARRIL_PARAM(C, pid_error_scale_m, "m", 0.01, 5.0, "pid: offset that counts as error 1"),
+      CARRIL_PARAM(C, pid_curve_threshold, "(error)", 0.0, 1.0,
+                   "pid: above this the curve gains apply"),
+      CARRIL_PARAM(C, heading_gain, "1/s", 0.0, 50.0,
+                   "marks, pid: yaw rate per radian of heading error"),
+      CARRIL_PARAM(C, corner_turn_rad, "rad", 0.05, 3.2,
+                   "a sharper turn within the preview is a corner"),
+      CARRIL_PARAM(C, corner_slow_m, "m", 0.0, 10.0, "start slowing this far before a corner"),
+      CARRIL_PARAM(C, corner_min_speed_mps, "m/s", 0.0, 5.0, "speed at the corner"),
+      CARRIL_PARAM(C, pivot_heading_rad, "rad", 0.05, 3.2,
+                   "heading error above this: turn on the spot"),
+      CARRIL_PARAM(C, max_yaw_rate_radps, "rad/s", 0.05, 20.0, "the followers' yaw-rate cap"),
+  };
+  return kParams;
+}
+
+std::span<const Param<PidGains>> PidGains::params() {
+  using C = PidGains;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, kp, "rad/s per unit error", 0.0, 100.0,
+                   "pid: proportional gain (pid_straight on straights, pid_curve in curves)"),
+      CARRIL_PARAM(C, ki, "rad/s per unit error s", 0.0, 100.0, "pid: integral gain"),
+      CARRIL_PARAM(C, kd, "rad s/s per unit error", 0.0, 100.0, "pid: derivative gain"),
+      CARRIL_PARAM(C, speed_mps, "m/s", 0.0, 5.0,
+                   "pid: top speed on straights (pid_straight) or in curves (pid_curve)",
+                   "the mission's `speed_mps` (pid_curve: 0.8 x)"),
+  };
+  return kParams;
+}
+
 Status StrategyConfig::validate() const {
-  Checks c("strategy");
-  const PidGains* sets[] = {&pid_straight, &pid_curve};
-  for (const PidGains* g : sets) {
-    const char* which = g == &pid_straight ? "pid_straight" : "pid_curve";
-    c.range(which, g->speed_mps, 0.0, 5.0, "m/s (speed_mps)")
-        .fail_if(!(g->kp >= 0.0 && g->ki >= 0.0 && g->kd >= 0.0), which,
-                 "gains kp, ki, kd must be >= 0");
-  }
-  return c.range("speed_mps", speed_mps, 0.01, 5.0, "m/s")
-      .range("marks_lookahead_m", marks_lookahead_m, 0.01, 5.0, "m")
-      .range("lp_k_lateral", lp_k_lateral, 0.0, 50.0, "1/s")
-      .range("lp_k_angle", lp_k_angle, 0.0, 50.0, "1/s")
-      .range("lp_k_lateral_w", lp_k_lateral_w, -50.0, 50.0, "rad/s per m")
-      .range("pid_lookahead_m", pid_lookahead_m, 0.0, 5.0, "m")
-      .range("pid_error_scale_m", pid_error_scale_m, 0.01, 5.0, "m")
-      .range("pid_curve_threshold", pid_curve_threshold, 0.0, 1.0, "(normalised error)")
-      .range("heading_gain", heading_gain, 0.0, 50.0, "1/s")
-      .range("corner_turn_rad", corner_turn_rad, 0.05, 3.2, "rad")
-      .range("corner_slow_m", corner_slow_m, 0.0, 10.0, "m")
-      .range("corner_min_speed_mps", corner_min_speed_mps, 0.0, 5.0, "m/s")
-      .range("pivot_heading_rad", pivot_heading_rad, 0.05, 3.2, "rad")
-      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.05, 20.0, "rad/s")
+  return Checks("strategy")
+      .params(*this, params())
+      .nested(Checks("strategy.pid_straight").params(pid_straight, PidGains::params()).result())
+      .nested(Checks("strategy.pid_curve").params(pid_curve, PidGains::params()).result())
       .result();
 }
 

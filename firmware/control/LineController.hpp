@@ -35,6 +35,8 @@ inline const char* strategy_name(Strategy s) {
 struct PidGains {
   double kp = 0.0, ki = 0.0, kd = 0.0;  // on the normalised error [rad/s per unit]
   double speed_mps = 0.5;               // [m/s]
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<PidGains>> params();
   bool operator==(const PidGains&) const = default;
 };
 
@@ -61,6 +63,8 @@ struct StrategyConfig {
   double pivot_heading_rad = 0.5;      // heading error above this: turn on the spot
   double max_yaw_rate_radps = 1.2;     // [rad/s]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<StrategyConfig>> params();
   Status validate() const;
   bool operator==(const StrategyConfig&) const = default;
 };

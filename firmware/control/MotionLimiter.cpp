@@ -1,5 +1,7 @@
 #include "firmware/control/MotionLimiter.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -48,14 +50,25 @@ Twist MotionLimiter::apply(const Twist& want, float* wheel_radps) {
 
 namespace carril::fw {
 
+std::span<const Param<MotionLimits>> MotionLimits::params() {
+  using C = MotionLimits;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, max_speed_mps, "m/s", 0.05, 5.0, "body speed: the robot file's limits",
+                   nullptr, false),
+      CARRIL_PARAM(C, max_yaw_rate_radps, "rad/s", 0.05, 10.0,
+                   "body yaw rate: the robot file's limits", nullptr, false),
+      CARRIL_PARAM(C, max_accel_mps2, "m/s^2", 0.05, 20.0,
+                   "body acceleration: the robot file's limits", nullptr, false),
+      CARRIL_PARAM(C, max_yaw_accel_radps2, "rad/s^2", 0.01, 50.0,
+                   "body yaw acceleration (the one motion limit the robot file does not carry)"),
+      CARRIL_PARAM(C, max_wheel_speed_radps, "rad/s", 0.5, 500.0,
+                   "wheel speed: the robot file's limits", nullptr, false),
+  };
+  return kParams;
+}
+
 Status MotionLimits::validate() const {
-  return Checks("limits")
-      .range("max_speed_mps", max_speed_mps, 0.01, 10.0, "m/s")
-      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.01, 20.0, "rad/s")
-      .range("max_accel_mps2", max_accel_mps2, 0.01, 20.0, "m/s^2")
-      .range("max_yaw_accel_radps2", max_yaw_accel_radps2, 0.01, 50.0, "rad/s^2")
-      .range("max_wheel_speed_radps", max_wheel_speed_radps, 0.1, 1000.0, "rad/s")
-      .result();
+  return Checks("limits").params(*this, params()).result();
 }
 
 }  // namespace carril::fw

@@ -14,6 +14,8 @@ struct MotionLimits {
   double max_yaw_accel_radps2 = 3.0;    // [rad/s^2]
   double max_wheel_speed_radps = 10.0;  // [rad/s]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<MotionLimits>> params();
   Status validate() const;
   bool operator==(const MotionLimits&) const = default;
 };

@@ -6,8 +6,12 @@
 #include <cstdarg>
 #include <cstddef>
 #include <cstdio>
+#include <span>
 
 namespace carril::fw {
+
+template <class Cfg>
+struct Param;  // firmware/core/Param.hpp
 
 class Status {
  public:
@@ -45,6 +49,9 @@ class Checks {
     }
     return *this;
   }
+  // Every range of a struct's settings table (firmware/core/Param.hpp), in table order.
+  template <class Cfg>
+  Checks& params(const Cfg& c, std::span<const Param<Cfg>> table);
   // A nested struct's own validate().
   Checks& nested(const Status& s) {
     if (status_.is_ok() && !s.is_ok()) status_ = s;

@@ -1,5 +1,7 @@
 #include "firmware/health/SensorHealth.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -159,31 +161,58 @@ ImuVerdict ImuHealth::add(const hal::ImuSample& s, double t_s, double odom_wz) {
 
 namespace carril::fw {
 
+std::span<const Param<ScanHealthConfig>> ScanHealthConfig::params() {
+  using C = ScanHealthConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, window_scans, "scans", 1, ScanHealth::kMaxWindow,
+                   "the lidar's valid-beam window", "0.25 s of scans, 2 to 64"),
+      CARRIL_PARAM(C, min_valid_fraction, "(fraction)", 0.0, 1.0,
+                   "fewer valid beams over the window: `scanner_blind`"),
+  };
+  return kParams;
+}
+
 Status ScanHealthConfig::validate() const {
-  return Checks("health.scan")
-      .range("window_scans", window_scans, 1, ScanHealth::kMaxWindow, "scans")
-      .range("min_valid_fraction", min_valid_fraction, 0.0, 1.0, "(fraction)")
-      .result();
+  return Checks("health.scan").params(*this, params()).result();
+}
+
+std::span<const Param<FrameHealthConfig>> FrameHealthConfig::params() {
+  using C = FrameHealthConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, sample_step_px, "px", 1, 64, "the grid of the frame looked at"),
+      CARRIL_PARAM(C, blank_tolerance, "levels", 0, 255,
+                   "colour spread at or below this: a blank frame"),
+      CARRIL_PARAM(C, blank_frames, "frames", 1, 1000, "blank frames in a row: `camera_blank`",
+                   "0.2 s of frames, at least 2"),
+      CARRIL_PARAM(C, frozen_motion_m, "m", 0.001, 10.0,
+                   "the image must change over this much travel ..."),
+      CARRIL_PARAM(C, frozen_turn_rad, "rad", 0.001, 6.3,
+                   "... or this much turning, else `camera_frozen`"),
+  };
+  return kParams;
 }
 
 Status FrameHealthConfig::validate() const {
-  return Checks("health.frame")
-      .range("sample_step_px", sample_step_px, 1, 64, "px")
-      .range("blank_tolerance", blank_tolerance, 0, 255, "levels")
-      .range("blank_frames", blank_frames, 1, 1000, "frames")
-      .range("frozen_motion_m", frozen_motion_m, 0.001, 10.0, "m")
-      .range("frozen_turn_rad", frozen_turn_rad, 0.001, 6.3, "rad")
-      .result();
+  return Checks("health.frame").params(*this, params()).result();
+}
+
+std::span<const Param<ImuHealthConfig>> ImuHealthConfig::params() {
+  using C = ImuHealthConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, max_tilt_rad, "rad", 0.01, 1.6, "roll or pitch beyond this is implausible"),
+      CARRIL_PARAM(C, max_yaw_rate_radps, "rad/s", 0.1, 100.0,
+                   "a yaw rate beyond this is implausible", "4 x `limits.max_yaw_rate_radps`"),
+      CARRIL_PARAM(C, out_of_range_samples, "samples", 1, 1000,
+                   "implausible samples in a row: `imu_out_of_range`"),
+      CARRIL_PARAM(C, frozen_s, "s", 0.01, 60.0, "a sample may not repeat longer: `imu_frozen`"),
+      CARRIL_PARAM(C, frozen_min_turn_change_radps, "rad/s", 0.001, 10.0,
+                   "odometry yaw-rate change a live IMU must follow"),
+  };
+  return kParams;
 }
 
 Status ImuHealthConfig::validate() const {
-  return Checks("health.imu")
-      .range("max_tilt_rad", max_tilt_rad, 0.01, 1.6, "rad")
-      .range("max_yaw_rate_radps", max_yaw_rate_radps, 0.1, 100.0, "rad/s")
-      .range("out_of_range_samples", out_of_range_samples, 1, 1000, "samples")
-      .range("frozen_s", frozen_s, 0.01, 60.0, "s")
-      .range("frozen_min_turn_change_radps", frozen_min_turn_change_radps, 0.001, 10.0, "rad/s")
-      .result();
+  return Checks("health.imu").params(*this, params()).result();
 }
 
 }  // namespace carril::fw

@@ -19,6 +19,8 @@ struct ScanHealthConfig {
   int window_scans = 5;              // scans the valid-beam fraction is taken over
   double min_valid_fraction = 0.05;  // fewer valid beams than this over the window: blind [0..1]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<ScanHealthConfig>> params();
   Status validate() const;
   bool operator==(const ScanHealthConfig&) const = default;
 };
@@ -51,6 +53,8 @@ struct FrameHealthConfig {
   double frozen_motion_m = 0.05;  // the image may not stay identical over this much travel [m]
   double frozen_turn_rad = 0.05;  // ... or this much turning [rad]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<FrameHealthConfig>> params();
   Status validate() const;
   bool operator==(const FrameHealthConfig&) const = default;
 };
@@ -82,6 +86,8 @@ struct ImuHealthConfig {
   double frozen_s = 0.5;            // a sample (stamp and values) may not repeat this long [s]
   double frozen_min_turn_change_radps = 0.2;  // odometry yaw rate change the IMU must follow
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<ImuHealthConfig>> params();
   Status validate() const;
   bool operator==(const ImuHealthConfig&) const = default;
 };

@@ -1,14 +1,25 @@
 #include "firmware/health/SensorWatch.hpp"
 
+#include "firmware/core/Param.hpp"
+
 namespace carril::fw {
 
+std::span<const Param<SensorWatchConfig>> SensorWatchConfig::params() {
+  using C = SensorWatchConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, camera_timeout_s, "s", 0.01, 10.0, "no frame this long: `camera_timeout`",
+                   "3 frames, at least 0.2 s"),
+      CARRIL_PARAM(C, scanner_timeout_s, "s", 0.01, 10.0, "no scan this long: `scanner_timeout`",
+                   "5 scans, at least 0.5 s"),
+      CARRIL_PARAM(C, imu_timeout_s, "s", 0.01, 10.0,
+                   "a fitted IMU with no valid sample this long (or none by the end of start-up): "
+                   "`imu_timeout`"),
+  };
+  return kParams;
+}
+
 Status SensorWatchConfig::validate() const {
-  return Checks("watch")
-      .range("camera_timeout_s", camera_timeout_s, 0.01, 10.0, "s")
-      .range("scanner_timeout_s", scanner_timeout_s, 0.01, 10.0, "s")
-      .range("imu_timeout_s", imu_timeout_s, 0.01, 10.0, "s")
-      .nested(imu.validate())
-      .result();
+  return Checks("watch").params(*this, params()).nested(imu.validate()).result();
 }
 
 SensorWatch::SensorWatch(const SensorWatchConfig& cfg, bool lidar_present,

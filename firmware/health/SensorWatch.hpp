@@ -21,6 +21,8 @@ struct SensorWatchConfig {
   double imu_timeout_s = 0.2;      // no valid IMU sample for this long is a fault [s]
   ImuHealthConfig imu;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<SensorWatchConfig>> params();
   Status validate() const;
   bool operator==(const SensorWatchConfig&) const = default;
 };

@@ -1,13 +1,24 @@
 #include "firmware/mission/FollowLineMission.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <cmath>
 #include <cstring>
 
 namespace carril::fw {
 
+std::span<const Param<FollowLineConfig>> FollowLineConfig::params() {
+  using C = FollowLineConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, tape_preview_m, "m", 0.0, 5.0,
+                   "how far along the remembered tape corners are looked for"),
+  };
+  return kParams;
+}
+
 Status FollowLineConfig::validate() const {
   return Checks("follow_line")
-      .range("tape_preview_m", tape_preview_m, 0.0, 5.0, "m")
+      .params(*this, params())
       .nested(strategy.validate())
       .nested(behavior.validate())
       .result();

@@ -24,6 +24,8 @@ struct FollowLineConfig {
   double tape_preview_m =
       0.6;  // how far ahead along the remembered tape corners are looked for [m]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<FollowLineConfig>> params();
   Status validate() const;
   bool operator==(const FollowLineConfig&) const = default;
 };

@@ -1,21 +1,43 @@
 #include "firmware/mission/MissionRunner.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace carril::fw {
 
+std::span<const Param<MissionRunnerConfig>> MissionRunnerConfig::params() {
+  using C = MissionRunnerConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(
+          C, blocked_timeout_s, "s", 0.1, 86400.0,
+          "a motion the fields or the checks keep stopped this long in a row: `motion_blocked`"),
+      CARRIL_PARAM(C, stall_timeout_s, "s", 0.0, 86400.0,
+                   "an active mission whose robot has not moved `stall_progress_m` this long, "
+                   "while not deliberately waiting: `stalled` (0: never)"),
+      CARRIL_PARAM(C, stall_progress_m, "m", 0.01, 10.0, "the distance that counts as progress"),
+      CARRIL_PARAM(C, lost_turn_radps, "rad/s", 0.0, 2.0,
+                   "unlocalised, turn in place at this rate to show the localiser the room (0: "
+                   "stand still); the robot file's localisation section",
+                   nullptr, false),
+      CARRIL_PARAM(
+          C, lost_turn_clearance_m, "m", 0.0, 1.0,
+          "turn in place only while every lidar point is this far beyond the circumscribed circle",
+          nullptr, false),
+      CARRIL_PARAM(C, max_unlocalised_s, "s", 0.0, 86400.0,
+                   "held unlocalised this long in a row: `not_localised` (0: wait for ever)",
+                   nullptr, false),
+  };
+  return kParams;
+}
+
 Status MissionRunnerConfig::validate() const {
   return Checks("runner")
+      .params(*this, params())
       .nested(obstacle.validate())
       .nested(fields.validate())
       .nested(check.validate())
-      .range("blocked_timeout_s", blocked_timeout_s, 0.1, 86400.0, "s")
-      .range("stall_timeout_s", stall_timeout_s, 0.0, 86400.0, "s")
-      .range("stall_progress_m", stall_progress_m, 0.01, 10.0, "m")
-      .range("lost_turn_radps", lost_turn_radps, 0.0, 2.0, "rad/s")
-      .range("lost_turn_clearance_m", lost_turn_clearance_m, 0.0, 1.0, "m")
-      .range("max_unlocalised_s", max_unlocalised_s, 0.0, 86400.0, "s")
       .nested(lost_explore.validate())
       .result();
 }

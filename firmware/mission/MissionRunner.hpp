@@ -51,6 +51,8 @@ struct MissionRunnerConfig {
   // from there (speed 0: it only turns). Only with a lost turn.
   LostExploreConfig lost_explore;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<MissionRunnerConfig>> params();
   Status validate() const;
   // How far beyond the footprint's circumscribed circle a return can still hold the lost turn,
   // plus 0.1 m for the travel between scans: what the obstacle field has to remember of its

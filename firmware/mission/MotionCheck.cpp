@@ -1,5 +1,7 @@
 #include "firmware/mission/MotionCheck.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,12 +11,23 @@ namespace {
 constexpr double kTurnOnlyMps = 0.05;  // slower than this while turning: a turn on the spot [m/s]
 }  // namespace
 
+std::span<const Param<MotionCheckConfig>> MotionCheckConfig::params() {
+  using C = MotionCheckConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, pad_m, "m", 0.0, 0.5,
+                   "the clearance the swept footprint of every motion keeps from lethal cells and "
+                   "returns; what is nearer may come nearer only by grazing (a quarter of the "
+                   "travel), never within 1 cm"),
+      CARRIL_PARAM(C, turn_margin_rad, "rad", 0.0, 1.0,
+                   "a turn on the spot is checked this far past where it could stop"),
+      CARRIL_PARAM(C, yaw_decel_radps2, "rad/s^2", 0.01, 50.0,
+                   "how fast a turn stops: limits.max_yaw_accel_radps2", nullptr, false),
+  };
+  return kParams;
+}
+
 Status MotionCheckConfig::validate() const {
-  return Checks("runner.check")
-      .range("pad_m", pad_m, 0.0, 0.5, "m")
-      .range("turn_margin_rad", turn_margin_rad, 0.0, 1.0, "rad")
-      .range("yaw_decel_radps2", yaw_decel_radps2, 0.01, 50.0, "rad/s^2")
-      .result();
+  return Checks("runner.check").params(*this, params()).result();
 }
 
 MotionCheck::MotionCheck(const MotionCheckConfig& cfg, const SafetyFieldsConfig& fields,

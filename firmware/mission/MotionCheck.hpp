@@ -36,6 +36,8 @@ struct MotionCheckConfig {
   // arc, the turn on the spot), not only stopped.
   bool alternatives = true;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<MotionCheckConfig>> params();
   Status validate() const;
   bool operator==(const MotionCheckConfig&) const = default;
 };

@@ -1,16 +1,28 @@
 #include "firmware/mission/ObstacleGuard.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <cmath>
 
 #include "firmware/mission/Mission.hpp"
 
 namespace carril::fw {
 
+std::span<const Param<ObstacleStopConfig>> ObstacleStopConfig::params() {
+  using C = ObstacleStopConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, stop_m, "m", 0.05, 5.0,
+                   "a standing obstacle ahead brings the robot to rest about this far short of it "
+                   "(and starts AVOID): the stop begins `stop_m` plus the stopping distance from "
+                   "its speed (`stop(v)` - C, below) short of it"),
+      CARRIL_PARAM(C, corridor_margin_m, "m", 0.0, 1.0,
+                   "the corridor ahead: robot width + this each side"),
+  };
+  return kParams;
+}
+
 Status ObstacleStopConfig::validate() const {
-  return Checks("runner.obstacle")
-      .range("stop_m", stop_m, 0.05, 5.0, "m")
-      .range("corridor_margin_m", corridor_margin_m, 0.0, 1.0, "m")
-      .result();
+  return Checks("runner.obstacle").params(*this, params()).result();
 }
 
 double ObstacleGuard::trigger_m() const {

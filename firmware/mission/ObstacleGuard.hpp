@@ -17,6 +17,8 @@ struct ObstacleStopConfig {
   double stop_m = 0.45;
   double corridor_margin_m = 0.10;  // the corridor ahead: robot width + this each side [m]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<ObstacleStopConfig>> params();
   Status validate() const;
   bool operator==(const ObstacleStopConfig&) const = default;
 };

@@ -1,5 +1,7 @@
 #include "firmware/mission/SafetyFields.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -18,19 +20,37 @@ constexpr double kStraightWidths = 4.0;
 
 }  // namespace
 
+std::span<const Param<SafetyFieldsConfig>> SafetyFieldsConfig::params() {
+  using C = SafetyFieldsConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, scan_period_s, "s", 0.0, 1.0,
+                   "part of the reaction time: a scan period (the lidar's rate)", nullptr, false),
+      CARRIL_PARAM(C, tick_s, "s", 0.0, 1.0,
+                   "part of the reaction time: a control tick (the loop's rate)", nullptr, false),
+      CARRIL_PARAM(C, drive_latency_s, "s", 0.0, 1.0,
+                   "a command leaving the loop to the drive acting on it; with a scan period and a "
+                   "tick it is the reaction time T"),
+      CARRIL_PARAM(C, decel_mps2, "m/s^2", 0.01, 20.0,
+                   "the deceleration of a stop: limits.max_accel_mps2", nullptr, false),
+      CARRIL_PARAM(C, margin_m, "m", 0.0, 2.0,
+                   "C, added to every stopping distance of the protective and warning fields"),
+      CARRIL_PARAM(C, static_margin_m, "m", 0.0, 2.0,
+                   "what a stop short of a static return (a wall, a standing box) keeps from it"),
+      CARRIL_PARAM(C, side_margin_m, "m", 0.0, 1.0,
+                   "the protective band beyond the body's sides, across the direction of travel"),
+      CARRIL_PARAM(C, approach_speed_mps, "m/s", 0.0, 5.0,
+                   "K, how fast something moving may approach (ISO 13855's walking speed)"),
+      CARRIL_PARAM(C, blind_speed_mps, "m/s", 0.0, 5.0,
+                   "the speed cap in a direction the lidar does not see (behind a front lidar)"),
+      CARRIL_PARAM(C, max_field_m, "m", 0.0, 100.0,
+                   "the longest protective field allowed (a safety scanner's largest field); 0: "
+                   "only the lidar's reliable range limits it"),
+  };
+  return kParams;
+}
+
 Status SafetyFieldsConfig::validate() const {
-  return Checks("runner.fields")
-      .range("scan_period_s", scan_period_s, 0.0, 1.0, "s")
-      .range("tick_s", tick_s, 0.0, 1.0, "s")
-      .range("drive_latency_s", drive_latency_s, 0.0, 1.0, "s")
-      .range("decel_mps2", decel_mps2, 0.01, 20.0, "m/s^2")
-      .range("margin_m", margin_m, 0.0, 2.0, "m")
-      .range("static_margin_m", static_margin_m, 0.0, 2.0, "m")
-      .range("side_margin_m", side_margin_m, 0.0, 1.0, "m")
-      .range("approach_speed_mps", approach_speed_mps, 0.0, 5.0, "m/s")
-      .range("blind_speed_mps", blind_speed_mps, 0.0, 5.0, "m/s")
-      .range("max_field_m", max_field_m, 0.0, 100.0, "m")
-      .result();
+  return Checks("runner.fields").params(*this, params()).result();
 }
 
 double SafetyFieldsConfig::stop_m(double v) const {

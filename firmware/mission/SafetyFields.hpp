@@ -49,6 +49,8 @@ struct SafetyFieldsConfig {
   // field, say); 0: no limit but the lidar's reliable range [m].
   double max_field_m = 0.0;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<SafetyFieldsConfig>> params();
   Status validate() const;
   double reaction_s() const { return scan_period_s + tick_s + drive_latency_s; }  // [s]
   double stop_m(double v) const;          // stopping distance from speed v [m]

@@ -1,5 +1,7 @@
 #include "firmware/perception/LineDetector.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -559,17 +561,39 @@ void check_threshold(Checks& c, const char* which, const ColorThreshold& t) {
 }
 }  // namespace
 
+std::span<const Param<LineDetectorConfig>> LineDetectorConfig::params() {
+  using C = LineDetectorConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, decimation, "px", 1, 4,
+                   "1, 2 or 4: the detector works on n x n pixel blocks"),
+      CARRIL_PARAM(C, tape_width_m, "m", 0.005, 0.5, "the tape's width"),
+      CARRIL_PARAM(C, min_piece_m, "m", 0.01, 2.0,
+                   "a tape blob counts when its pixel area times the floor area of a pixel where "
+                   "it lies (through the camera model) covers `tape_width_m` x `min_piece_m`: the "
+                   "same piece counts near the robot and at the far edge of the view (a blob of "
+                   "6000 px scaled, tape on its own, counts wherever it lies)"),
+      CARRIL_PARAM(
+          C, min_area_px, "px", 0.0, 1e7,
+          "> 0: a fixed smallest tape blob in pixels instead of the floor rule (the thesis used "
+          "6000 at 640x480), and every blob kept is tape on its own; 0: a blob of at least 6000 px "
+          "scaled by the image area over 640x480 is tape on its own, a smaller one (worn tape "
+          "between gaps, or a speck) is a piece, taken for tape only where it continues the "
+          "remembered tape (on its path or its continuation up to 0.6 m past its end, running the "
+          "same way; `tape_pieces_taken` and `tape_pieces_refused` in the mission's counters)"),
+      CARRIL_PARAM(C, min_end_area_px, "px", 0.0, 1e7,
+                   "smallest end mark; 0: 1500 scaled the same way"),
+  };
+  return kParams;
+}
+
 Status LineDetectorConfig::validate() const {
   Checks c("detector");
+  c.params(*this, params());
   check_threshold(c, "line", line);
   check_threshold(c, "end", end);
   return c
       .fail_if(decimation != 1 && decimation != 2 && decimation != 4, "decimation",
                "expected 1, 2 or 4")
-      .range("tape_width_m", tape_width_m, 0.005, 0.5, "m")
-      .range("min_piece_m", min_piece_m, 0.01, 2.0, "m")
-      .range("min_area_px", min_area_px, 0.0, 1e7, "px")
-      .range("min_end_area_px", min_end_area_px, 0.0, 1e7, "px")
       .result();
 }
 

@@ -46,6 +46,8 @@ struct LineDetectorConfig {
   // false: every block of every frame (the reference the tests compare it with).
   bool sparse = true;
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<LineDetectorConfig>> params();
   Status validate() const;
   bool operator==(const LineDetectorConfig&) const = default;
 };

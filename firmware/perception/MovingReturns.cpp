@@ -1,16 +1,26 @@
 #include "firmware/perception/MovingReturns.hpp"
 
+#include "firmware/core/Param.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace carril::fw {
 
+std::span<const Param<MovingReturnsConfig>> MovingReturnsConfig::params() {
+  using C = MovingReturnsConfig;
+  static constexpr Param<C> kParams[] = {
+      CARRIL_PARAM(C, history_s, "s", 0.0, 2.0,
+                   "each scan is compared with the one this much older"),
+      CARRIL_PARAM(C, margin_m, "m", 0.0, 1.0,
+                   "a return this far inside space an older scan saw free is moving"),
+      CARRIL_PARAM(C, margin_per_m, "m/m", 0.0, 0.2, "plus this per metre of range"),
+  };
+  return kParams;
+}
+
 Status MovingReturnsConfig::validate() const {
-  return Checks("lidar.moving")
-      .range("history_s", history_s, 0.0, 2.0, "s")
-      .range("margin_m", margin_m, 0.0, 1.0, "m")
-      .range("margin_per_m", margin_per_m, 0.0, 0.2, "m/m")
-      .result();
+  return Checks("lidar.moving").params(*this, params()).result();
 }
 
 MovingReturns::MovingReturns(const MovingReturnsConfig& cfg, double rate_hz)

@@ -28,6 +28,8 @@ struct MovingReturnsConfig {
   double margin_m = 0.08;
   double margin_per_m = 0.01;  // plus this much per metre of range (beam divergence) [m/m]
 
+  // The settings: unit, range, meaning (firmware/core/Param.hpp).
+  static std::span<const Param<MovingReturnsConfig>> params();
   Status validate() const;
   bool operator==(const MovingReturnsConfig&) const = default;
 };

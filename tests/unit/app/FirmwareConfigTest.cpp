@@ -28,12 +28,12 @@ TEST(FirmwareConfigTest, EachBadFieldIsNamedWithItsUnitAndRange) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Case cases[] = {
       {"rate", [](FirmwareConfig& c) { c.rate_hz = 0.0; },
-       "robot.control_rate_hz: 0 Hz, expected 1 to 10000 Hz"},
+       "robot.control_rate_hz: 0 Hz, expected 10 to 1000 Hz"},
       {"nan rate", [nan](FirmwareConfig& c) { c.rate_hz = nan; }, "robot.control_rate_hz: nan Hz"},
       {"wheel", [](FirmwareConfig& c) { c.drive.wheel_radius_m = -0.1; },
        "drive.wheel_radius_m: -0.1 m, expected 0.01 to 1 m"},
       {"limits", [](FirmwareConfig& c) { c.limits.max_speed_mps = 50.0; },
-       "limits.max_speed_mps: 50 m/s, expected 0.01 to 10 m/s"},
+       "limits.max_speed_mps: 50 m/s, expected 0.05 to 5 m/s"},
       {"camera tilt", [](FirmwareConfig& c) { c.camera.camera.tilt_rad = 2.0; },
        "camera.tilt_rad: 2 rad"},
       {"camera rate", [](FirmwareConfig& c) { c.camera.rate_hz = 0.0; },
@@ -53,7 +53,7 @@ TEST(FirmwareConfigTest, EachBadFieldIsNamedWithItsUnitAndRange) {
       {"speed", [](FirmwareConfig& c) { c.follow_line.strategy.speed_mps = -1.0; },
        "strategy.speed_mps: -1 m/s"},
       {"pid", [](FirmwareConfig& c) { c.follow_line.strategy.pid_curve.kp = -1.0; },
-       "strategy.pid_curve: gains kp, ki, kd must be >= 0"},
+       "strategy.pid_curve.kp: -1 rad/s per unit error, expected 0 to 100 rad/s per unit error"},
   };
   for (const Case& k : cases) {
     FirmwareConfig c;

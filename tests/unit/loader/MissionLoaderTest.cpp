@@ -139,8 +139,9 @@ TEST(MissionLoader, OutOfRangeSettingsNameFileLineAndKeyWhenBuilt) {
   ASSERT_TRUE(gain.ok) << gain.error;
   const BuildResult g = build_firmware_config(robot("campero"), gain.mission);
   ASSERT_FALSE(g.ok);
-  EXPECT_EQ(g.error,
-            at(gain.path, 13) + "strategy_gains.pid_curve.kp: gains kp, ki, kd must be >= 0");
+  EXPECT_EQ(g.error, at(gain.path, 13) +
+                         "strategy_gains.pid_curve.kp: -1 rad/s per unit error, expected 0 to 100 "
+                         "rad/s per unit error");
 }
 
 TEST(MissionLoader, MissionChecksAreTheScenariosWithTheRobotNamed) {
