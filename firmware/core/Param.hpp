@@ -62,8 +62,9 @@ constexpr Param<Cfg> param(int Cfg::*member, ParamInfo info) {
 
 template <class Cfg>
 Checks& Checks::params(const Cfg& c, std::span<const Param<Cfg>> table) {
-  for (const Param<Cfg>& p : table)
+  for (const Param<Cfg>& p : table) {
     range(p.info.name, p.get(c), p.info.min, p.info.max, p.info.unit);
+  }
   return *this;
 }
 

@@ -200,11 +200,7 @@ void Localisation::run() {
   const OdometryMsg& o = odom_.get();
   if (mcl_ != nullptr) {
     const SensorFrame& f = frame_.get();
-    const bool fresh = f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_fit_seq_;
-    if (fresh) {
-      last_fit_seq_ = f.scan->seq;
-      check_fit(*f.scan, o.pose);
-    }
+    if (const hal::LaserScan* scan = fit_scans_.take(f.scan)) check_fit(*scan, o.pose);
     if (alias_pending_ && !mcl_->busy()) {
       alias_pending_ = false;
       if (mcl_->add_hypothesis(tel_.alias.alias, alias_odom_, cfg_.alias_hypothesis_sigma_xy_m,
@@ -214,8 +210,8 @@ void Localisation::run() {
         mcl_->force_next_update();  // weigh it at the next scan
       }
     }
-    if (!mcl_->busy() && f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_scan_seq_) {
-      last_scan_seq_ = f.scan->seq;
+    // A scan that comes while the filter is busy waits: the newest is taken once it is free.
+    if (!mcl_->busy() && scans_.take(f.scan) != nullptr) {
       // Held still while lost, the robot would never move enough to update: weigh a scan now and
       // then all the same.
       const auto period_ns = std::int64_t(cfg_.unlocalised_update_period_s * 1e9);

@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include <memory>
+#include "firmware/core/SampleReader.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/msg/ActuatorCommand.hpp"
@@ -157,11 +158,12 @@ class Localisation {
   Topic<OdometryMsg>& out_;
   Pose2 map_from_odom_;
   std::unique_ptr<MonteCarloLocalizer> mcl_;
-  std::unique_ptr<AliasSearch> alias_;  // alias_check's search (nullptr when off)
-  bool alias_clear_ = false;            // a search found none since the scans began to fit
-  Pose2 alias_odom_;                    // the odometry pose of the search's scan
-  bool alias_pending_ = false;          // an alias to give the filter between updates
-  std::uint32_t last_scan_seq_ = 0, last_fit_seq_ = 0;
+  std::unique_ptr<AliasSearch> alias_;      // alias_check's search (nullptr when off)
+  bool alias_clear_ = false;                // a search found none since the scans began to fit
+  Pose2 alias_odom_;                        // the odometry pose of the search's scan
+  bool alias_pending_ = false;              // an alias to give the filter between updates
+  SampleReader<hal::LaserScan> scans_;      // weighed by the filter (when it is free)
+  SampleReader<hal::LaserScan> fit_scans_;  // checked against the map (every one)
   std::uint64_t seen_updates_ = 0;
   bool localised_ = false;
   bool ever_localised_ = false;

@@ -42,20 +42,18 @@ void SensorWatch::run() {
   }
   // A device is silent when nothing new came for its timeout; before its first sample the
   // mission's own start-up timeout applies.
-  if (f.camera != nullptr && f.camera->seq != 0 && f.camera->seq != last_frame_seq_) {
-    last_frame_seq_ = f.camera->seq;
+  if (frames_.take(f.camera) != nullptr) {
     last_frame_ns_ = f.now_ns;
     ++tel_.camera_frames;
   }
-  if (f.scan != nullptr && f.scan->seq != 0 && f.scan->seq != last_scan_seq_) {
-    last_scan_seq_ = f.scan->seq;
+  if (scans_.take(f.scan) != nullptr) {
     last_scan_ns_ = f.now_ns;
     ++tel_.scans;
   }
-  if (last_frame_seq_ != 0 && now_s - double(last_frame_ns_) * 1e-9 > cfg_.camera_timeout_s) {
+  if (frames_.ever() && now_s - double(last_frame_ns_) * 1e-9 > cfg_.camera_timeout_s) {
     faults_.raise(Fault::CameraTimeout);
   }
-  if (lidar_present_ && last_scan_seq_ != 0 &&
+  if (lidar_present_ && scans_.ever() &&
       now_s - double(last_scan_ns_) * 1e-9 > cfg_.scanner_timeout_s) {
     faults_.raise(Fault::ScannerTimeout);
   }

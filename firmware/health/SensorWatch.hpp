@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
+#include "firmware/core/SampleReader.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/health/SensorHealth.hpp"
@@ -50,7 +51,8 @@ class SensorWatch {
   const Topic<OdometryMsg>& odom_;
   FaultSink& faults_;
   ImuHealth imu_health_;
-  std::uint32_t last_frame_seq_ = 0, last_scan_seq_ = 0;
+  SampleReader<hal::CameraFrame> frames_;
+  SampleReader<hal::LaserScan> scans_;
   hal::TimeNs last_frame_ns_ = 0, last_scan_ns_ = 0;
   bool imu_seen_ = false;
   hal::TimeNs last_imu_ns_ = 0;

@@ -140,14 +140,12 @@ void Mapping::run() {
     cleared = true;
   }
   bool scanned = false;
-  if (f.scan != nullptr && f.scan->seq != last_scan_seq_ && !pm.localised) {
-    last_scan_seq_ = f.scan->seq;
+  const hal::LaserScan* scan = scans_.take(f.scan);
+  if (scan != nullptr && !pm.localised) {
     ++tel_.scans_unlocalised;
-  } else if (f.scan != nullptr && f.scan->seq != last_scan_seq_) {
-    last_scan_seq_ = f.scan->seq;
+  } else if (scan != nullptr) {
     const Vec2 s = to_world(pose, Vec2(lidar_mount_.x, lidar_mount_.y));
-    costmap_.update_obstacles(*f.scan,
-                              Pose2{s.x(), s.y(), wrap_angle(pose.yaw + lidar_mount_.yaw)});
+    costmap_.update_obstacles(*scan, Pose2{s.x(), s.y(), wrap_angle(pose.yaw + lidar_mount_.yaw)});
     ++tel_.scans;
     scanned = true;
   }
@@ -188,7 +186,8 @@ void Mapping::rebuild_master() {
 }
 
 void Mapping::begin_sweep(const hal::PointCloud& cloud, const Pose2& pose) {
-  last_cloud_seq_ = binning_seq_ = cloud.seq;
+  clouds_.take(&cloud);
+  binning_seq_ = cloud.seq;
   // The windows move only between cycles, so every piece of a cycle lands on one window.
   costmap_.recenter(pose.x, pose.y);
   elevation_.recenter(pose.x, pose.y);
@@ -201,7 +200,7 @@ void Mapping::begin_sweep(const hal::PointCloud& cloud, const Pose2& pose) {
 }
 
 void Mapping::terrain_piece(const SensorFrame& f) {
-  const bool fresh = f.cloud != nullptr && f.cloud->seq != last_cloud_seq_;
+  const bool fresh = clouds_.fresh(f.cloud);
   switch (phase_) {
     case TerrainPhase::kWaitSweep:
       if (fresh) begin_sweep(*f.cloud, odom_.get().pose);

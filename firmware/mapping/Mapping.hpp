@@ -18,6 +18,7 @@
 #include <cstdint>
 
 #include "firmware/core/RingBuffer.hpp"
+#include "firmware/core/SampleReader.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/mapping/ElevationLayer.hpp"
@@ -120,7 +121,8 @@ class Mapping final : public CostmapView {
   Pose3Tracker pose3_;
   bool started_ = false;
   std::uint32_t master_divisor_ = 1, tick_ = 0;
-  std::uint32_t last_scan_seq_ = 0, last_cloud_seq_ = 0;
+  SampleReader<hal::LaserScan> scans_;
+  SampleReader<hal::PointCloud> clouds_;
   std::uint32_t seen_relocalisations_ = 0;
   // The robot's 3D pose over the last ticks: a sweep is fused with the pose of its stamp (a
   // driver delivers it after the sweep; fusing it with the current pose smears the map).

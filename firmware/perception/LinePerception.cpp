@@ -29,9 +29,8 @@ LinePerceptionTelemetry LinePerception::telemetry() const {
 
 void LinePerception::run() {
   const SensorFrame& f = frame_.get();
-  const hal::CameraFrame* cam = f.camera;
-  if (cam == nullptr || cam->seq == last_seq_) return;
-  last_seq_ = cam->seq;
+  const hal::CameraFrame* cam = frames_.take(f.camera);
+  if (cam == nullptr) return;
   LineObservation& obs = out_.edit();
   if (!detector_.detect(*cam, obs.detection)) {
     faults_.raise(Fault::CameraBadFrame);

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "firmware/core/FaultSink.hpp"
+#include "firmware/core/SampleReader.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/health/SensorHealth.hpp"
@@ -51,7 +52,7 @@ class LinePerception {
   const Topic<OdometryMsg>& odom_;
   Topic<LineObservation>& out_;
   FaultSink& faults_;
-  std::uint32_t last_seq_ = 0;
+  SampleReader<hal::CameraFrame> frames_;
   std::uint64_t processed_ = 0;
 };
 

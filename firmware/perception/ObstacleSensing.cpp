@@ -17,7 +17,12 @@ Status ObstacleSensingConfig::validate() const {
 ObstacleSensing::ObstacleSensing(const ObstacleSensingConfig& cfg, const Topic<SensorFrame>& frame,
                                  const Topic<OdometryMsg>& odom, Topic<ObstacleField>& out,
                                  FaultSink& faults)
-    : health_(cfg.health), moving_(cfg.moving, cfg.rate_hz), frame_(frame), odom_(odom), out_(out), faults_(faults) {}
+    : health_(cfg.health),
+      moving_(cfg.moving, cfg.rate_hz),
+      frame_(frame),
+      odom_(odom),
+      out_(out),
+      faults_(faults) {}
 
 ObstacleSensingTelemetry ObstacleSensing::telemetry() const {
   return {out_.get().invalid_beams(), moving_returns_, health_.valid_fraction()};
@@ -25,9 +30,8 @@ ObstacleSensingTelemetry ObstacleSensing::telemetry() const {
 
 void ObstacleSensing::run() {
   const SensorFrame& f = frame_.get();
-  const hal::LaserScan* scan = f.scan;
-  if (scan == nullptr || scan->seq == last_seq_) return;
-  last_seq_ = scan->seq;
+  const hal::LaserScan* scan = scans_.take(f.scan);
+  if (scan == nullptr) return;
   if (!health_.add(*scan)) faults_.raise(Fault::ScannerBlind);
   ObstacleField& field = out_.edit();
   field.update(*scan, odom_.get().pose);

@@ -6,6 +6,7 @@
 
 #include "firmware/core/FaultSink.hpp"
 #include "firmware/core/Geometry.hpp"
+#include "firmware/core/SampleReader.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
 #include "firmware/health/SensorHealth.hpp"
@@ -55,7 +56,7 @@ class ObstacleSensing {
   const Topic<OdometryMsg>& odom_;
   Topic<ObstacleField>& out_;
   FaultSink& faults_;
-  std::uint32_t last_seq_ = 0;
+  SampleReader<hal::LaserScan> scans_;
 };
 
 }  // namespace carril::fw
