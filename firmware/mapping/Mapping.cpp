@@ -79,9 +79,10 @@ Mapping::Mapping(const MappingConfig& cfg, double tick_rate_hz, const Pose2& lid
     const MapInfo& m = static_map_->info();
     const double cx = m.origin_x_m + 0.5 * m.nx * m.resolution_m;
     const double cy = m.origin_y_m + 0.5 * m.ny * m.resolution_m;
-    if (!static_layer_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m)) {
-      take(Status::error("mapping: the static layer's %d x %d cells could not be set up",
-                         cfg_.costmap.nx(), cfg_.costmap.ny()));
+    if (Status s =
+            static_layer_.init(cfg_.costmap.nx(), cfg_.costmap.ny(), cfg_.costmap.resolution_m);
+        !s) {
+      take(s);
       return;
     }
     static_layer_.place(*static_map_, cx, cy);

@@ -4,8 +4,10 @@
 
 namespace carril::fw {
 
-bool StaticLayer::init(int nx, int ny, double resolution_m) {
-  return grid_.init(nx, ny, resolution_m, cost::kUnknown);
+Status StaticLayer::init(int nx, int ny, double resolution_m) {
+  if (grid_.init(nx, ny, resolution_m, cost::kUnknown)) return Status::ok();
+  return Status::error("mapping: the static layer's %d x %d cells at %g m could not be set up", nx,
+                       ny, resolution_m);
 }
 
 void StaticLayer::place(const OccupancyGrid& map, double x, double y) {

@@ -7,14 +7,15 @@
 #include <cstdint>
 
 #include "firmware/core/RollingGrid.hpp"
+#include "firmware/core/Status.hpp"
 #include "firmware/mapping/OccupancyGrid.hpp"
 
 namespace carril::fw {
 
 class StaticLayer {
  public:
-  // Allocates the window (init time); false when the allocation fails.
-  bool init(int nx, int ny, double resolution_m);
+  // Allocates the window (init time); an error naming the window when that fails.
+  Status init(int nx, int ny, double resolution_m);
   // Moves the window so that (x, y) [m] is its centre cell and reads every cell from the map
   // (init time, or whenever the window moves: it costs the whole window).
   void place(const OccupancyGrid& map, double x, double y);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/MissionStates.hpp"
 
 namespace carril::fw {
 
@@ -222,7 +223,8 @@ void CoverageMission::enter(const MissionContext& ctx) {
   tour_pos_ = 0;
   rng_ = cfg_.seed != 0 ? cfg_.seed : 1u;
   cells_done_ = lanes_ = lanes_blocked_ = revisits_ = bumps_ = replans_ = joins_ = 0;
-  turns_left_ = turns_right_ = stops_in_a_row_ = 0;
+  turns_left_ = turns_right_ = 0;
+  stops_.reset();
   fault_ = Fault::None;
   if (accounting_) {
     coverage_.clear();
@@ -231,27 +233,8 @@ void CoverageMission::enter(const MissionContext& ctx) {
 }
 
 MissionState CoverageMission::state() const {
-  MissionState s;
-  s.id = static_cast<std::uint8_t>(state_);
-  s.name = coverage_state_name(state_);
-  s.phase = phase_.current();
-  s.on_path = state_ == State::Sweep;
-  switch (state_) {
-    case State::Wait:
-      s.status = MissionStatus::Starting;
-      s.waiting = true;  // for the drives and the first pose: a timeout of its own
-      break;
-    case State::Done:
-      s.status = MissionStatus::Done;
-      break;
-    case State::Failed:
-      s.status = MissionStatus::Failed;
-      break;
-    default:
-      s.status = MissionStatus::Active;
-      break;
-  }
-  return s;
+  return report_state(state_, coverage_state_name(state_), phase_, MissionStatus::Active,
+                      state_ == State::Sweep);
 }
 
 void CoverageMission::counters(MissionCounters& out) const {
@@ -272,9 +255,7 @@ void CoverageMission::counters(MissionCounters& out) const {
 MissionOutput CoverageMission::fail(Fault f) {
   fault_ = f;
   go(State::Failed, fault_name(f));
-  MissionOutput out;
-  out.fault = f;
-  return out;
+  return fault_output(f);
 }
 
 std::size_t CoverageMission::cell_index(int i, int j) const {

@@ -54,6 +54,7 @@
 #include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
+#include "firmware/mission/PathChecks.hpp"
 #include "firmware/msg/CostmapView.hpp"
 #include "firmware/msg/ObstacleField.hpp"
 #include "firmware/msg/OdometryMsg.hpp"
@@ -251,8 +252,9 @@ class CoverageMission final : public Mission {
   LaneFollower sweep_follower_;
   PurePursuitFollower transit_follower_;
   const Topic<OdometryMsg>& pose_;
-  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
-  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
+  // The costmap (its view, published at init by Mapping; validate() requires one).
+  CostmapInput costmap_in_;
+  const CostmapView& costmap() const { return costmap_in_.get(); }
   const OccupancyGrid& map_;
   Status init_status_;
   bool accounting_ = false;  // the map is usable: the coverage grid counts
@@ -287,8 +289,8 @@ class CoverageMission final : public Mission {
   StaticVector<GridCell, kMaxPathCells> cells_;
   StaticVector<Vec2, kMaxWaypoints> waypoints_;
   std::uint32_t seen_updates_ = 0;
-  std::uint32_t stops_in_a_row_ = 0;
-  Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
+  StopStreak stops_;
+  Vec2 backup_from_{0.0, 0.0};
   double spun_rad_ = 0.0, spin_last_yaw_ = 0.0;
   Vec2 spin_at_{0.0, 0.0};  // where the revisit turns [m]
 

@@ -100,24 +100,10 @@ bool CoverageMission::blocked_at(const Vec2& p) const {
 }
 
 bool CoverageMission::path_blocked_ahead(const Pose2& pose) const {
-  const double step = 0.5 * map_.resolution();
-  double left = cfg_.replan_lookahead_m;
-  Vec2 a(pose.x, pose.y);
-  for (std::size_t i = transit_follower_.progress() + 1; i < waypoints_.size() && left > 0.0; ++i) {
-    const Vec2 b = waypoints_[i];
-    const double len = (b - a).norm();
-    const int n = std::max(1, int(std::ceil(len / step)));
-    for (int k = 1; k <= n; ++k) {
-      const Vec2 p = a + (b - a) * (double(k) / n);
-      // The robot's own inflated cell does not count (it may stand in inflation).
-      if (blocked_at(p) && (p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) {
-        return true;
-      }
-    }
-    left -= len;
-    a = b;
-  }
-  return false;
+  return fw::path_blocked_ahead(pose, waypoints_.begin(), waypoints_.size(),
+                                transit_follower_.progress() + 1, cfg_.replan_lookahead_m,
+                                0.5 * map_.resolution(), footprint_.half_width_m,
+                                [&](const Vec2& p) { return blocked_at(p); });
 }
 
 // A lethal costmap cell whose centre lies within (inscribed radius + margin) of the robot's,

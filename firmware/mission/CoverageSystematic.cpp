@@ -279,7 +279,7 @@ bool CoverageMission::path_to(int ti, int tj, const Vec2& target) {
 }
 
 void CoverageMission::arrive(const Pose2& pose) {
-  stops_in_a_row_ = 0;  // got there
+  stops_.reset();  // got there
   if (after_transit_ == State::Spin) {
     spun_rad_ = 0.0;
     spin_last_yaw_ = pose.yaw;
@@ -462,12 +462,8 @@ bool CoverageMission::near_edge(const Vec2& p) const {
 // Stop, back off, plan again; after max_recoveries stops in a row the target is given up.
 MissionOutput CoverageMission::emergency_stop(const Pose2& pose) {
   const Vec2 here(pose.x, pose.y);
-  if (stops_in_a_row_ > 0 && (here - last_stop_at_).norm() > 2.0 * cfg_.backup_m) {
-    stops_in_a_row_ = 0;
-  }
-  last_stop_at_ = here;
-  if (++stops_in_a_row_ > cfg_.max_recoveries) {
-    stops_in_a_row_ = 0;
+  if (stops_.too_many(here, 2.0 * cfg_.backup_m, cfg_.max_recoveries)) {
+    stops_.reset();
     if (purpose_ == Purpose::Revisit) return next_plan(Purpose::Revisit);
     finish_cell();
     return next_plan(Purpose::NextCell);

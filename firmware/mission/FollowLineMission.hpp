@@ -51,7 +51,7 @@ class FollowLineMission final : public Mission {
   const LineBehavior& behavior() const { return behavior_; }
   const TapeMap& tape() const { return map_; }
   // The costmap the bypass is checked on (no view on it: the obstacle outline alone decides).
-  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_ = &c; }
+  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_.watch(c); }
 
  private:
   // Tape and end mark of a new frame into memory; whether the frame showed tape.
@@ -74,10 +74,8 @@ class FollowLineMission final : public Mission {
   bool end_known_ = false;
   bool end_glimpsed_ = false;             // an end mark cut by the image edge has been seen
   Vec2 end_glimpse_odom_ = Vec2::Zero();  // the visible part's centroid, odometry frame [m]
-  const Topic<CostmapMsg>* costmap_in_ = nullptr;  // the costmap topic (no view: none built)
-  const CostmapView* costmap() const {
-    return costmap_in_ != nullptr ? costmap_in_->get().view : nullptr;
-  }
+  CostmapInput costmap_in_;               // no view: none built
+  const CostmapView* costmap() const { return costmap_in_.view(); }
   std::uint32_t costmap_seen_ = 0;
   Vec2 end_odom_ = Vec2::Zero();
   bool line_seen_ = false;  // the newest frame showed tape (LineDetection::sure, or a piece of it)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/MissionStates.hpp"
 #include "firmware/mission/ObstacleGuard.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
 
@@ -122,8 +123,8 @@ void GotoMission::enter(const MissionContext&) {
   phase_.restart("wait");
   waypoints_.clear();
   cells_.clear();
-  plans_ = replans_ = emergency_stops_ = stops_in_a_row_ = vff_fallbacks_ = corner_turns_ =
-      corner_escapes_ = 0;
+  plans_ = replans_ = emergency_stops_ = vff_fallbacks_ = corner_turns_ = corner_escapes_ = 0;
+  stops_.reset();
   vff_held_ = escaping_ = corner_held_ = false;
   fault_ = Fault::None;
   goal_index_ = 0;
@@ -132,33 +133,10 @@ void GotoMission::enter(const MissionContext&) {
 }
 
 MissionState GotoMission::state() const {
-  MissionState s;
-  s.id = static_cast<std::uint8_t>(state_);
-  s.name = goto_state_name(state_);
-  s.phase = phase_.current();
-  switch (state_) {
-    case State::Wait:
-      s.status = MissionStatus::Starting;
-      s.waiting = true;  // for the drives and the first pose: a timeout of its own
-      break;
-    case State::Plan:
-    case State::Follow:
-    case State::Backup:
-      s.status = MissionStatus::Active;
-      break;
-    case State::Approach:
-    case State::Align:
-      // Onto the last goal; an intermediate one is still the task under way.
-      s.status = last_goal() ? MissionStatus::Finishing : MissionStatus::Active;
-      break;
-    case State::Done:
-      s.status = MissionStatus::Done;
-      break;
-    case State::Failed:
-      s.status = MissionStatus::Failed;
-      break;
-  }
-  return s;
+  // Onto the last goal; an intermediate one is still the task under way.
+  const bool finishing = (state_ == State::Approach || state_ == State::Align) && last_goal();
+  return report_state(state_, goto_state_name(state_), phase_,
+                      finishing ? MissionStatus::Finishing : MissionStatus::Active);
 }
 
 void GotoMission::counters(MissionCounters& out) const {
@@ -179,7 +157,7 @@ void GotoMission::relocalised() {
     case State::Approach:
     case State::Align:
       ++replans_;
-      stops_in_a_row_ = 0;  // stops seen from the wrong pose say nothing about this one
+      stops_.reset();  // stops seen from the wrong pose say nothing about this one
       waypoints_.clear();
       go(State::Plan, "replan");
       break;
@@ -194,9 +172,7 @@ void GotoMission::relocalised() {
 MissionOutput GotoMission::fail(Fault f) {
   fault_ = f;
   go(State::Failed, f == Fault::NoPath ? "no_path" : "goal_invalid");
-  MissionOutput out;
-  out.fault = f;
-  return out;
+  return fault_output(f);
 }
 
 // Goal k is reached: DONE after the last one, else a plan to goal k + 1 from here.
@@ -207,7 +183,7 @@ MissionOutput GotoMission::goal_reached(const Pose2& pose) {
     return {};
   }
   goal_ = cfg_.goal_at(++goal_index_);
-  stops_in_a_row_ = 0;  // reaching a goal is progress
+  stops_.reset();  // reaching a goal is progress
   go(State::Plan, "plan");
   return plan_step(pose);
 }
@@ -368,27 +344,15 @@ MissionOutput GotoMission::plan_step(const Pose2& pose) {
 // cell on it means the plan no longer holds.
 bool GotoMission::path_blocked_ahead(const Pose2& pose) const {
   const RollingGrid<std::uint8_t>& m = costmap().master();
-  double left = cfg_.replan_lookahead_m;
-  Vec2 a(pose.x, pose.y);
-  for (std::size_t i = progress_ + 1; i < waypoints_.size() && left > 0.0; ++i) {
-    const Vec2 b = waypoints_[i];
-    const double len = (b - a).norm();
-    const int n = static_cast<int>(std::ceil(len / (0.5 * m.resolution())));
-    for (int k = 1; k <= n; ++k) {
-      const Vec2 p = a + (b - a) * (double(k) / n);
-      int cx = 0, cy = 0;
-      if (!m.world_to_cell(p.x(), p.y(), cx, cy)) continue;
-      const std::uint8_t c = m.at(cx, cy);
-      const bool near_goal = (p - goal_xy()).norm() <= cfg_.goal_clear_m;
-      if (!near_goal && (c == cost::kLethal || c == cost::kInscribed)) {
-        // The robot's own inflated cell does not count (it may be standing in inflation).
-        if ((p - Vec2(pose.x, pose.y)).norm() > footprint_.half_width_m) return true;
-      }
-    }
-    left -= len;
-    a = b;
-  }
-  return false;
+  return fw::path_blocked_ahead(
+      pose, waypoints_.begin(), waypoints_.size(), progress_ + 1, cfg_.replan_lookahead_m,
+      0.5 * m.resolution(), footprint_.half_width_m, [&](const Vec2& p) {
+        int cx = 0, cy = 0;
+        if (!m.world_to_cell(p.x(), p.y(), cx, cy)) return false;
+        const std::uint8_t c = m.at(cx, cy);
+        const bool near_goal = (p - goal_xy()).norm() <= cfg_.goal_clear_m;
+        return !near_goal && (c == cost::kLethal || c == cost::kInscribed);
+      });
 }
 
 // A lethal cell just ahead of the body (within emergency_stop_m of its front edge).
@@ -416,11 +380,7 @@ bool GotoMission::lethal_at_edge(const Pose2& pose, double x_body) const {
 MissionOutput GotoMission::emergency_stop(const Pose2& pose) {
   ++emergency_stops_;
   const Vec2 here(pose.x, pose.y);
-  if (stops_in_a_row_ > 0 && (here - last_stop_at_).norm() > 2.0 * cfg_.backup_m) {
-    stops_in_a_row_ = 0;  // it got somewhere since the last one
-  }
-  last_stop_at_ = here;
-  if (++stops_in_a_row_ > cfg_.max_recoveries) return fail(Fault::NoPath);
+  if (stops_.too_many(here, 2.0 * cfg_.backup_m, cfg_.max_recoveries)) return fail(Fault::NoPath);
   backup_from_ = here;
   go(State::Backup, "backup");
   return {};

@@ -39,6 +39,7 @@
 #include "firmware/mission/BodyGuard.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
+#include "firmware/mission/PathChecks.hpp"
 #include "firmware/msg/CostmapView.hpp"
 #include "firmware/msg/ObstacleField.hpp"
 #include "firmware/msg/OdometryMsg.hpp"
@@ -171,8 +172,9 @@ class GotoMission final : public Mission {
   PurePursuitFollower pure_pursuit_;
   VffFollower vff_;
   const Topic<OdometryMsg>& odom_;
-  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
-  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
+  // The costmap (its view, published at init by Mapping; validate() requires one).
+  CostmapInput costmap_in_;
+  const CostmapView& costmap() const { return costmap_in_.get(); }
   WavefrontPlanner planner_;
   bool planner_ready_ = false;
   std::unique_ptr<std::uint8_t[]> plan_costs_;  // the master as planned on (goal area opened)
@@ -185,8 +187,8 @@ class GotoMission final : public Mission {
   StaticVector<Vec2, kMaxWaypoints> waypoints_;
   std::size_t progress_ = 0;  // index of the path segment the follower is on
   std::uint32_t plans_ = 0, replans_ = 0, emergency_stops_ = 0;
-  std::uint32_t stops_in_a_row_ = 0;
-  Vec2 backup_from_{0.0, 0.0}, last_stop_at_{0.0, 0.0};
+  StopStreak stops_;
+  Vec2 backup_from_{0.0, 0.0};
   bool vff_held_ = false;  // pure pursuit drives in place of VFF (vff_fallback_m)
   Vec2 vff_held_at_{0.0, 0.0};
   std::uint32_t vff_fallbacks_ = 0;

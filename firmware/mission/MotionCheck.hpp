@@ -58,7 +58,7 @@ class MotionCheck {
 
   // The costmap the motions are checked on, in the frame of the pose given to check() (no view
   // on it: the lidar's returns alone).
-  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_ = &c; }
+  void watch_costmap(const Topic<CostmapMsg>& c) { costmap_in_.watch(c); }
   // The request `want` of a robot at `pose` (the costmap's frame) and `odom_pose` (the obstacle
   // field's), turning at `wz_now` [rad/s] and moving at `v_now` [m/s].
   MotionVerdict check(const Twist& want, const Pose2& pose, const ObstacleField& f,
@@ -74,10 +74,8 @@ class MotionCheck {
   MotionCheckConfig cfg_;
   SafetyFieldsConfig fields_;
   Footprint fp_;
-  const Topic<CostmapMsg>* costmap_in_ = nullptr;  // the costmap topic (no view: none built)
-  const CostmapView* costmap() const {
-    return costmap_in_ != nullptr ? costmap_in_->get().view : nullptr;
-  }
+  CostmapInput costmap_in_;  // no view: none built
+  const CostmapView* costmap() const { return costmap_in_.view(); }
   BodyGuard guard_;
   RollingGrid<std::uint8_t> no_grid_;  // never initialised: gathers nothing
   std::uint64_t crowded_ = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
+#include "firmware/mission/MissionStates.hpp"
 #include "firmware/mission/WaypointBypass.hpp"
 
 namespace carril::fw {
@@ -107,28 +108,10 @@ void WaypointMission::enter(const MissionContext&) {
 }
 
 MissionState WaypointMission::state() const {
-  MissionState s;
-  s.id = static_cast<std::uint8_t>(state_);
-  s.name = waypoint_state_name(state_);
-  s.phase = phase_.current();
-  switch (state_) {
-    case State::Wait:
-      s.status = MissionStatus::Starting;
-      s.waiting = true;  // for the drives and the first pose: a timeout of its own
-      break;
-    case State::Drive: {
-      const bool last = laps_done_ + 1 >= cfg_.laps && target_ + 1 >= cfg_.targets.size();
-      s.status = last ? MissionStatus::Finishing : MissionStatus::Active;
-      break;
-    }
-    case State::Done:
-      s.status = MissionStatus::Done;
-      break;
-    case State::Failed:
-      s.status = MissionStatus::Failed;
-      break;
-  }
-  return s;
+  const bool finishing =
+      state_ == State::Drive && laps_done_ + 1 >= cfg_.laps && target_ + 1 >= cfg_.targets.size();
+  return report_state(state_, waypoint_state_name(state_), phase_,
+                      finishing ? MissionStatus::Finishing : MissionStatus::Active);
 }
 
 void WaypointMission::counters(MissionCounters& out) const {
@@ -149,9 +132,7 @@ void WaypointMission::counters(MissionCounters& out) const {
 MissionOutput WaypointMission::fail(Fault f, const char* phase) {
   fault_ = f;
   go(State::Failed, phase);
-  MissionOutput out;
-  out.fault = f;
-  return out;
+  return fault_output(f);
 }
 
 MissionOutput WaypointMission::update(const MissionContext& ctx) {

@@ -153,8 +153,9 @@ class WaypointMission final : public Mission {
   bool holonomic_;
   VffFollower vff_;
   const Topic<OdometryMsg>& pose_;
-  Reader<CostmapMsg> costmap_in_;  // the costmap (its view, published at init by Mapping)
-  const CostmapView& costmap() const { return *costmap_in_.peek().view; }
+  // The costmap (its view, published at init by Mapping; validate() requires one).
+  CostmapInput costmap_in_;
+  const CostmapView& costmap() const { return costmap_in_.get(); }
 
   State state_ = State::Wait;
   MissionPhase phase_;

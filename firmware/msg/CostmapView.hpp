@@ -5,7 +5,9 @@
 // once at init; a test can implement it over any grid.
 #include <cstdint>
 
+#include "firmware/core/Check.hpp"
 #include "firmware/core/RollingGrid.hpp"
+#include "firmware/core/Topic.hpp"
 
 namespace carril::fw {
 
@@ -28,6 +30,40 @@ class CostmapView {
 // built, as when FirmwareConfig::mapping is off).
 struct CostmapMsg {
   const CostmapView* view = nullptr;
+};
+
+// The view of no costmap: grids never set up (ready() false), never built (updates() 0): a mission
+// handed it waits for a costmap as at start-up, and its wait times out to a safe stop.
+class EmptyCostmapView final : public CostmapView {
+ public:
+  const RollingGrid<std::uint8_t>& master() const override { return none_; }
+  const RollingGrid<std::uint8_t>& obstacles() const override { return none_; }
+  std::uint32_t updates() const override { return 0; }
+
+ private:
+  RollingGrid<std::uint8_t> none_;
+};
+
+// A component's read of the costmap topic, the one way every consumer reaches the view.
+class CostmapInput {
+ public:
+  CostmapInput() = default;
+  explicit CostmapInput(const Topic<CostmapMsg>& topic) : topic_(&topic) {}
+  void watch(const Topic<CostmapMsg>& topic) { topic_ = &topic; }
+  // nullptr when no costmap is built, or before the topic is watched.
+  const CostmapView* view() const { return topic_ != nullptr ? topic_->get().view : nullptr; }
+  // For a component whose configuration requires a costmap (validate() refuses it without one):
+  // the view; none is a programming error, checked, with the empty view as the safe way out.
+  const CostmapView& get() const {
+    const CostmapView* v = view();
+    if (v != nullptr) return *v;
+    (void)CARRIL_CHECK(v != nullptr);
+    return empty_;
+  }
+
+ private:
+  const Topic<CostmapMsg>* topic_ = nullptr;
+  EmptyCostmapView empty_;
 };
 
 }  // namespace carril::fw

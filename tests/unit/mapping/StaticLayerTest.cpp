@@ -53,7 +53,13 @@ TEST(StaticLayer, EveryWindowCellReadsTheMapCellUnderItsCentre) {
   OccupancyGrid map(200);
   ASSERT_TRUE(map.assign(info, cells.data()).is_ok());
   StaticLayer layer;
-  ASSERT_TRUE(layer.init(24, 14, 0.1));
+  ASSERT_TRUE(layer.init(24, 14, 0.1).is_ok());
+  // A window that cannot be allocated is an error naming it, not a silent false.
+  StaticLayer bad;
+  const Status s = bad.init(0, 14, 0.1);
+  EXPECT_FALSE(s.is_ok());
+  EXPECT_STREQ(s.message(),
+               "mapping: the static layer's 0 x 14 cells at 0.1 m could not be set up");
   layer.place(map, 0.03, 0.03);
   const RollingGrid<std::uint8_t>& g = layer.grid();
   int walls = 0, unknown_inside = 0;
