@@ -23,9 +23,9 @@ Firmware::Firmware(const FirmwareConfig& cfg, const hal::Clock& clock)
                    bus.costmap),
       waypoints(cfg.waypoints, cfg.footprint(), kinematics.holonomic(), bus.pose, bus.costmap),
       coverage(cfg.mission == MissionKind::Coverage
-                   ? std::make_unique<CoverageMission>(
-                         cfg.coverage, cfg.footprint(), kinematics.holonomic(), bus.pose,
-                         bus.costmap, cfg.map != nullptr ? *cfg.map : no_map_)
+                   ? make_coverage_mission(cfg.coverage, cfg.footprint(), kinematics.holonomic(),
+                                           bus.pose, bus.costmap,
+                                           cfg.map != nullptr ? *cfg.map : no_map_)
                    : nullptr),
       runner(cfg.runner, 1.0 / cfg.rate_hz, kinematics.wheel_count(), select_mission(cfg.mission),
              bus.frame, bus.odometry, bus.obstacles, bus.motion, controller, cfg.watch.imu_present),

@@ -1,5 +1,6 @@
-// The coverage mission: configuration, construction, the state machine's frame and the vacuum
-// baseline. The systematic mode's planning and driving are in CoverageSystematic.cpp.
+// What the coverage missions share: configuration, the area's construction, the frame of every
+// tick, the reachable area's plan, and make_coverage_mission(). The missions are
+// SystematicCoverage.cpp and VacuumCoverage.cpp.
 #include "firmware/mission/CoverageMission.hpp"
 
 #include <algorithm>
@@ -7,6 +8,8 @@
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mission/MissionStates.hpp"
+#include "firmware/mission/SystematicCoverage.hpp"
+#include "firmware/mission/VacuumCoverage.hpp"
 
 namespace carril::fw {
 
@@ -118,13 +121,10 @@ std::size_t map_cells(const OccupancyGrid& m) {
 }  // namespace
 
 CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& footprint,
-                                 bool holonomic, const Topic<OdometryMsg>& pose,
-                                 const Topic<CostmapMsg>& costmap, const OccupancyGrid& static_map)
+                                 const Topic<OdometryMsg>& pose, const Topic<CostmapMsg>& costmap,
+                                 const OccupancyGrid& static_map)
     : cfg_(cfg),
       footprint_(footprint),
-      tracker_(cfg.tracker, holonomic),
-      sweep_follower_(cfg.sweep),
-      transit_follower_(cfg.transit_pursuit),
       pose_(pose),
       costmap_in_(costmap),
       map_(static_map),
@@ -169,42 +169,9 @@ CoverageMission::CoverageMission(const CoverageConfig& cfg, const Footprint& foo
     return;
   }
   plan_costs_ = std::make_unique<std::uint8_t[]>(n);
-  abandoned_ = std::make_unique<std::uint8_t[]>(n);
   mapped_ = std::make_unique<std::uint8_t[]>(n);
   build_mapped_mask();
   accounting_ = true;
-  if (!systematic) return;
-  // The revisits' patch measure (systematic only).
-  patch_size_ = std::make_unique<std::uint32_t[]>(n);
-  patch_queue_ = std::make_unique<std::uint32_t[]>(n);
-  BoustrophedonConfig bc;
-  bc.lane_spacing_m = cfg.tool_width_m * (1.0 - cfg.lane_overlap);
-  bc.turn_radius_m = cfg.turn_radius_m;
-  const MapInfo& info = static_map.info();
-  init_status_ = bcd_.init(nx, ny, cfg.max_cells, cfg.max_lanes);
-  if (init_status_) {
-    init_status_ = bcd_.decompose(area_.centre(), nx, ny, info.resolution_m, info.origin_x_m,
-                                  info.origin_y_m, bc);
-  }
-  if (!init_status_) {
-    accounting_ = false;
-    return;
-  }
-  // Every cell's route must fit the route buffer (the longest: many lanes and their U-turns).
-  for (std::size_t k = 0; k < bcd_.cell_count(); ++k) {
-    if (!bcd_.route(CellVisit{std::uint16_t(k), 0}, route_)) {
-      init_status_ = Status::error(
-          "coverage: cell %zu of the area needs more than %zu route waypoints (cover the "
-          "area in parts: coverage.area)",
-          k, kMaxRoute);
-      accounting_ = false;
-      return;
-    }
-  }
-  route_.clear();
-  // The tour starts at the map's lower-left corner; PLAN drives it backwards when its other end
-  // is nearer the robot.
-  bcd_.order(Vec2(info.origin_x_m, info.origin_y_m));
 }
 
 void CoverageMission::go(State s, const char* phase) {
@@ -220,16 +187,11 @@ void CoverageMission::enter(const MissionContext& ctx) {
   t0_s_ = -1.0;
   have_last_ = false;
   planning_ = false;
-  tour_pos_ = 0;
-  rng_ = cfg_.seed != 0 ? cfg_.seed : 1u;
   cells_done_ = lanes_ = lanes_blocked_ = revisits_ = bumps_ = replans_ = joins_ = 0;
   turns_left_ = turns_right_ = 0;
-  stops_.reset();
   fault_ = Fault::None;
-  if (accounting_) {
-    coverage_.clear();
-    for (std::size_t k = 0; k < area_.size(); ++k) abandoned_[k] = 0;
-  }
+  if (accounting_) coverage_.clear();
+  restart();
 }
 
 MissionState CoverageMission::state() const {
@@ -284,92 +246,91 @@ MissionOutput CoverageMission::update(const MissionContext& ctx) {
       last_pose_ = pose;
       have_last_ = true;
       if (accounting_) return start_plan(Purpose::Initial, pose);
-      go(State::Spiral, "spiral");
-      return {};
+      return begin(pose);
     case State::Plan:
       return plan_step(pose);
-    case State::Transit:
-      return transit(pose);
-    case State::Sweep:
-      return sweep(pose);
-    case State::Spin:
-      return spin(pose);
-    case State::Reverse:
-      return reverse(pose);
-    case State::Spiral:
-    case State::BackUp:
-    case State::Turn:
-    case State::Forward:
-      return vacuum(ctx, pose);
     case State::Done:
     case State::Failed:
       break;
+    default:
+      return step(ctx, pose);
   }
   return {};
 }
 
-// ---- the vacuum baseline ----
+namespace {
+const char* plan_phase(int purpose) {
+  static const char* const kNames[] = {"plan", "next_cell", "resume", "revisit"};
+  return kNames[purpose];
+}
+}  // namespace
 
-// xorshift32: a fixed sequence per seed, no state beyond one word.
-double CoverageMission::uniform() {
-  rng_ ^= rng_ << 13;
-  rng_ ^= rng_ >> 17;
-  rng_ ^= rng_ << 5;
-  return double(rng_) / 4294967296.0;
+MissionOutput CoverageMission::next_plan(Purpose p) {
+  purpose_ = p;
+  planning_ = false;
+  go(State::Plan, plan_phase(int(p)));
+  return {};
 }
 
-bool CoverageMission::bumped(const MissionContext& ctx, const Pose2& pose) const {
-  return ctx.obstacle_ahead() || lethal_near(pose, cfg_.vacuum.bump_m, true, true);
+MissionOutput CoverageMission::start_plan(Purpose p, const Pose2& pose) {
+  next_plan(p);
+  return plan_step(pose);
 }
 
-MissionOutput CoverageMission::vacuum(const MissionContext& ctx, const Pose2& pose) {
-  const VacuumConfig& v = cfg_.vacuum;
-  const double t = now_s_ - state_t0_s_;
-  MissionOutput out;
-  switch (state_) {
-    case State::Spiral:
-    case State::Forward:
-      if (bumped(ctx, pose)) {
-        ++bumps_;
-        go(State::BackUp, "back_up");
-        return out;
+// One PLAN tick. The first lays the obstacles the map does not show over the static area (the
+// initial plan: the static area alone, so a passing obstacle does not shrink the area for good)
+// and seeds a wavefront at the robot; the next ones expand it within the budget; the last picks
+// the target from its distances and extracts the path.
+MissionOutput CoverageMission::plan_step(const Pose2& pose) {
+  const int nx = map_.nx(), ny = map_.ny();
+  if (!planning_) {
+    const std::size_t n = area_.size();
+    for (std::size_t k = 0; k < n; ++k) plan_costs_[k] = base_costs_[k];
+    if (purpose_ != Purpose::Initial) overlay_unmapped();
+    // The robot's cell, or (standing in inflation) the nearest passable one within 0.3 m.
+    int ri = 0, rj = 0;
+    map_.cell_of(pose.x, pose.y, ri, rj);
+    const int r = std::max(1, int(std::ceil(0.3 / map_.resolution())));
+    int si = -1, sj = -1, best = r * r + 1;
+    for (int dj = -r; dj <= r; ++dj) {
+      for (int di = -r; di <= r; ++di) {
+        const int i = ri + di, j = rj + dj;
+        if (!map_.contains(i, j) || di * di + dj * dj >= best) continue;
+        if (!cost::passable(plan_costs_[cell_index(i, j)])) continue;
+        best = di * di + dj * dj;
+        si = i;
+        sj = j;
       }
-      if (state_ == State::Spiral) {
-        if (t >= v.spiral_max_s) {
-          go(State::Forward, "forward");
-          return out;
-        }
-        const double r = v.spiral_start_radius_m + v.spiral_growth_mps * t;
-        out.motion.twist.vx = v.spiral_speed_mps;
-        out.motion.twist.wz = v.spiral_speed_mps / r;
-        return out;
-      }
-      if (t >= v.forward_s) {
-        go(State::Spiral, "spiral");
-        return out;
-      }
-      out.motion.twist.vx = v.forward_speed_mps;
-      return out;
-    case State::BackUp:
-      if (t >= v.backup_s || lethal_near(pose, v.bump_m, false, true)) {
-        turn_dir_ = uniform() < 0.5 ? 1.0 : -1.0;
-        turn_s_ = v.turn_min_s + (v.turn_max_s - v.turn_min_s) * uniform();
-        ++(turn_dir_ > 0.0 ? turns_left_ : turns_right_);
-        go(State::Turn, turn_dir_ > 0.0 ? "turn_left" : "turn_right");
-        return out;
-      }
-      out.motion.twist.vx = -v.backup_speed_mps;
-      return out;
-    case State::Turn:
-      if (t >= turn_s_) {
-        go(State::Forward, "forward");
-        return out;
-      }
-      out.motion.twist.wz = turn_dir_ * v.turn_rate_radps;
-      return out;
-    default:
-      return out;
+    }
+    if (si < 0 || planner_.start(plan_costs_.get(), nx, ny, si, sj) != WavefrontStatus::Running) {
+      return fail(Fault::NoPath);
+    }
+    planning_ = true;
+    return {};  // laying the costs and seeding are this tick's work
   }
+  if (planner_.step(cfg_.plan_expansions_per_tick) == WavefrontStatus::Running) return {};
+  planning_ = false;
+  if (purpose_ == Purpose::Initial) {
+    // The area the robot can reach; what is sealed off is no part of the job.
+    area_.keep_anchored([&](std::size_t a) {
+      return planner_.reachable(int(a % std::size_t(nx)), int(a / std::size_t(nx)));
+    });
+    coverage_.set_mask(area_.coverable());
+    if (area_.coverable_cells() == 0) return fail(Fault::NoPath);
+    return begin(pose);
+  }
+  return planned(pose);
+}
+
+std::unique_ptr<CoverageMission> make_coverage_mission(const CoverageConfig& cfg,
+                                                       const Footprint& footprint, bool holonomic,
+                                                       const Topic<OdometryMsg>& pose,
+                                                       const Topic<CostmapMsg>& costmap,
+                                                       const OccupancyGrid& static_map) {
+  if (cfg.mode == CoverageMode::Vacuum) {
+    return std::make_unique<VacuumCoverage>(cfg, footprint, pose, costmap, static_map);
+  }
+  return std::make_unique<SystematicCoverage>(cfg, footprint, holonomic, pose, costmap, static_map);
 }
 
 }  // namespace carril::fw

@@ -1,22 +1,24 @@
 #pragma once
-// The coverage (cleaning) mission: sweep the free space of the static map, or of a polygon of it,
-// with a tool of tool_width across the robot. Two modes:
+// The coverage (cleaning) missions: sweep the free space of the static map, or of a polygon of it,
+// with a tool of tool_width across the robot. Two missions on one shared base (CoverageMission,
+// below), picked by the mission file's `mode:`:
 //
-// systematic: the area's boustrophedon decomposition (firmware/planning/Boustrophedon.hpp, built
-// at init from the static map eroded by the robot's radius) is driven cell by cell in the order of
-// its tour, each cell's lanes with pure pursuit at cruise speed; transitions are planned with the
-// wavefront planner on the static map overlaid with the live costmap (so they go through doors
-// and round what the lidar sees). The mission marks its CoverageGrid from the localised pose
-// every tick, so it knows what it really swept: a lane blocked by an obstacle the map does not
-// show is cut short and resumed past it; a cell its neighbours' lanes already swept is skipped;
-// each cell is entered at the corner nearest the robot. Where the tour's next cell begins with a
-// lane across from the end of the cell's last one, at the same end and driven the other way, the
-// sweep turns into it by a U-turn as between its own lanes (a join: no plan, transit or turns on
-// the spot). After the last cell it goes back for what is left (REVISIT: to the unswept cell
-// nearest by the planner of a patch of at least revisit_min_area_m2, a half turn and more on the
-// spot there, each cell tried once) until target_coverage of the cells reachable now is swept
-// (cells an unmapped obstacle seals off do not count) or nothing reachable is left. It does not
-// call the job complete when it is not: covered_permille is what it swept of the whole area.
+// systematic (SystematicCoverage.hpp): the area's boustrophedon decomposition
+// (firmware/planning/Boustrophedon.hpp, built at init from the static map eroded by the robot's
+// radius) is driven cell by cell in the order of its tour, each cell's lanes with pure pursuit at
+// cruise speed; transitions are planned with the wavefront planner on the static map overlaid with
+// the live costmap (so they go through doors and round what the lidar sees). The mission marks its
+// CoverageGrid from the localised pose every tick, so it knows what it really swept: a lane blocked
+// by an obstacle the map does not show is cut short and resumed past it; a cell its neighbours'
+// lanes already swept is skipped; each cell is entered at the corner nearest the robot. Where the
+// tour's next cell begins with a lane across from the end of the cell's last one, at the same end
+// and driven the other way, the sweep turns into it by a U-turn as between its own lanes (a join:
+// no plan, transit or turns on the spot). After the last cell it goes back for what is left
+// (REVISIT: to the unswept cell nearest by the planner of a patch of at least revisit_min_area_m2,
+// a half turn and more on the spot there, each cell tried once) until target_coverage of the cells
+// reachable now is swept (cells an unmapped obstacle seals off do not count) or nothing reachable
+// is left. It does not call the job complete when it is not: covered_permille is what it swept of
+// the whole area.
 //
 //   WAIT --drives ready, costmap built--> PLAN(initial: reachable area, tour direction)
 //   PLAN(next cell) --path--> TRANSIT --at the cell's corner--> SWEEP --end of its lanes--> PLAN
@@ -28,7 +30,7 @@
 //   WAIT/PLAN --no free cell to cover--> FAILED (no_coverage_area); --nothing reachable--> FAILED
 //   (no_path)
 //
-// vacuum: the course's reactive state machine as a baseline, blind to the map:
+// vacuum (VacuumCoverage.hpp): the course's reactive state machine as a baseline, blind to the map:
 //   SPIRAL --bump--> BACK_UP --timer--> TURN (random direction and time) --timer--> FORWARD
 //   FORWARD --bump--> BACK_UP; FORWARD --timer--> SPIRAL; SPIRAL --spiral_max_s--> FORWARD
 // A bump is a lethal costmap cell just ahead of the body, or the obstacle guard's stop corridor.
@@ -47,6 +49,7 @@
 #include "firmware/control/LaneFollower.hpp"
 #include "firmware/control/PathTracker.hpp"
 #include "firmware/control/PurePursuitFollower.hpp"
+#include "firmware/core/Geometry.hpp"
 #include "firmware/core/StaticVector.hpp"
 #include "firmware/core/Status.hpp"
 #include "firmware/core/Topic.hpp"
@@ -54,7 +57,6 @@
 #include "firmware/mapping/OccupancyGrid.hpp"
 #include "firmware/mission/Mission.hpp"
 #include "firmware/mission/MissionPhase.hpp"
-#include "firmware/mission/PathChecks.hpp"
 #include "firmware/msg/CostmapView.hpp"
 #include "firmware/msg/ObstacleField.hpp"
 #include "firmware/msg/OdometryMsg.hpp"
@@ -145,17 +147,18 @@ struct CoverageConfig {
   bool operator==(const CoverageConfig&) const = default;
 };
 
-class CoverageMission final : public Mission {
+// What the two coverage missions share (ArduPilot's mode base): the area and what was swept of
+// it, the wavefront that finds the reachable area, the costmap's obstacles the map does not show,
+// the frame of every tick (the sweep accounting, the time limit, the wait at the start), the
+// state, phase and counters. SystematicCoverage and VacuumCoverage are the two missions; the
+// mission file's `mode:` picks one (make_coverage_mission()).
+class CoverageMission : public Mission {
  public:
-  static constexpr std::size_t kMaxRoute = 4096;      // waypoints of one cell's lanes
-  static constexpr std::size_t kMaxPathCells = 4096;  // cells of one transit path
-  static constexpr std::size_t kMaxWaypoints = 1024;  // waypoints of one transit path
-
-  // Builds the area, its decomposition and tour and the planner's buffers from the static map
-  // (init time). `pose` is the localised pose in the map frame; the costmap indexes its cells as
-  // floor(x / resolution) in the same frame. A failure is kept in init_status() and ends the
-  // mission at its first tick with no_coverage_area.
-  CoverageMission(const CoverageConfig& cfg, const Footprint& footprint, bool holonomic,
+  // Builds the area and the planner's buffers from the static map (init time). `pose` is the
+  // localised pose in the map frame; the costmap indexes its cells as floor(x / resolution) in
+  // the same frame. A failure is kept in init_status() and ends the mission at its first tick with
+  // no_coverage_area.
+  CoverageMission(const CoverageConfig& cfg, const Footprint& footprint,
                   const Topic<OdometryMsg>& pose, const Topic<CostmapMsg>& costmap,
                   const OccupancyGrid& static_map);
 
@@ -187,87 +190,53 @@ class CoverageMission final : public Mission {
   // What it swept, on the static map's cells (mask: the reachable coverable cells).
   const CoverageGrid& coverage() const { return coverage_; }
   const CoverageArea& area() const { return area_; }
-  const Boustrophedon& decomposition() const { return bcd_; }
-  // The route left to sweep: n waypoints [m] from the returned one on.
-  const Vec2* sweep_route(std::size_t& n) const {
-    n = route_.size() - sweep_from_;
-    return route_.begin() + sweep_from_;
-  }
   std::uint32_t bumps() const { return bumps_; }
   std::uint32_t joins() const { return joins_; }  // cells joined onto the one before [cells]
   std::uint32_t turns_left() const { return turns_left_; }
   std::uint32_t turns_right() const { return turns_right_; }
 
- private:
+ protected:
   enum class Purpose : std::uint8_t { Initial, NextCell, Resume, Revisit };
+
+  // The mission's own part of enter(): its state back to the start.
+  virtual void restart() = 0;
+  // One tick in one of the mission's own states (neither Wait, Plan, Done nor Failed).
+  virtual MissionOutput step(const MissionContext& ctx, const Pose2& pose) = 0;
+  // The reachable area is known (or, off a map, cannot be): the mission begins.
+  virtual MissionOutput begin(const Pose2& pose) = 0;
+  // A plan for `purpose_` (not Initial) has finished expanding: pick its target.
+  virtual MissionOutput planned(const Pose2& pose) = 0;
 
   void go(State s, const char* phase);
   MissionOutput fail(Fault f);
   std::size_t cell_index(int i, int j) const;
-  // systematic (CoverageSystematic.cpp)
   MissionOutput start_plan(Purpose p, const Pose2& pose);
   MissionOutput next_plan(Purpose p);  // planning starts at the next tick
-  void arrive(const Pose2& pose);
-  // A new cell's sweep starting this far or more from its first point drives onto it first [m].
-  static constexpr double kOnRouteM = 0.03;
-  void start_route_here(const Pose2& pose);
-  void finish_cell();
-  // A joined cell's first lane runs at least this far before it turns again (unless it ends) [m].
-  static constexpr double kJoinSettleM = 0.3;
-  bool join_next_cell(const Pose2& pose);
-  bool join_clear(std::size_t from, std::size_t to) const;
   MissionOutput plan_step(const Pose2& pose);
-  MissionOutput planned(const Pose2& pose);
-  bool pick_next_cell(const Pose2& pose);
-  bool pick_resume(const Pose2& pose);
-  bool pick_revisit(const Pose2& pose);
-  std::int32_t reachable_anchor(std::size_t k, long& budget) const;
-  bool path_to(int ti, int tj, const Vec2& target);
-  MissionOutput transit(const Pose2& pose);
-  MissionOutput sweep(const Pose2& pose);
-  MissionOutput spin(const Pose2& pose);
-  MissionOutput reverse(const Pose2& pose);
-  MissionOutput emergency_stop(const Pose2& pose);
-  bool cut_lane(const Pose2& pose, const PathProjection& at);
-  bool near_edge(const Vec2& p) const;
   // obstacles the map does not show (CoverageObstacles.cpp)
   void build_mapped_mask();
   bool unmapped_lethal(int cx, int cy) const;
   void overlay_unmapped();
   double obstacle_reach_m() const;
   bool blocked_at(const Vec2& p) const;
-  bool path_blocked_ahead(const Pose2& pose) const;
   // any_lethal: every lethal cell counts (the vacuum is blind to the map), else unmapped ones.
   bool lethal_near(const Pose2& pose, double margin, bool forward, bool any_lethal) const;
-  CellVisit tour_visit(std::size_t k) const;
-  double swept_fraction(std::uint16_t cell) const;
-  // vacuum (CoverageMission.cpp)
-  MissionOutput vacuum(const MissionContext& ctx, const Pose2& pose);
-  bool bumped(const MissionContext& ctx, const Pose2& pose) const;
-  double uniform();
+  const CostmapView& costmap() const { return costmap_in_.get(); }
 
   CoverageConfig cfg_;
   Footprint footprint_;
-  PathTracker tracker_;
-  LaneFollower sweep_follower_;
-  PurePursuitFollower transit_follower_;
   const Topic<OdometryMsg>& pose_;
   // The costmap (its view, published at init by Mapping; validate() requires one).
   CostmapInput costmap_in_;
-  const CostmapView& costmap() const { return costmap_in_.get(); }
   const OccupancyGrid& map_;
   Status init_status_;
   bool accounting_ = false;  // the map is usable: the coverage grid counts
   CoverageArea area_;
-  Boustrophedon bcd_;
   CoverageGrid coverage_;
   WavefrontPlanner planner_;
-  std::unique_ptr<std::uint8_t[]> base_costs_;    // the static area: 0 on centre cells, else lethal
-  std::unique_ptr<std::uint8_t[]> plan_costs_;    // base_costs_ overlaid with the costmap
-  std::unique_ptr<std::uint8_t[]> abandoned_;     // revisit targets already tried
-  std::unique_ptr<std::uint32_t[]> patch_size_;   // the unswept patch each unswept cell is in
-  std::unique_ptr<std::uint32_t[]> patch_queue_;  // the flood fill's queue [cell indices]
-  std::unique_ptr<std::uint8_t[]> mapped_;        // within mapped_wall_tolerance_m of a wall
+  std::unique_ptr<std::uint8_t[]> base_costs_;  // the static area: 0 on centre cells, else lethal
+  std::unique_ptr<std::uint8_t[]> plan_costs_;  // base_costs_ overlaid with the costmap
+  std::unique_ptr<std::uint8_t[]> mapped_;      // within mapped_wall_tolerance_m of a wall
 
   State state_ = State::Wait;
   MissionPhase phase_;
@@ -275,33 +244,20 @@ class CoverageMission final : public Mission {
          state_t0_s_ = 0.0;  // this tick, the start, the state's start [s]
   bool have_last_ = false;
   Pose2 last_pose_;
-
-  // systematic
   Purpose purpose_ = Purpose::Initial;
   bool planning_ = false;  // the wavefront of this PLAN has been started
-  bool tour_reversed_ = false;
-  std::size_t tour_pos_ = 0;
-  CellVisit visit_;
-  StaticVector<Vec2, kMaxRoute> route_;
-  std::size_t sweep_from_ = 0;  // the route from here on is left to sweep
-  bool join_tried_ = false;     // on the route's last lane, the next cell was looked at
-  State after_transit_ = State::Sweep;
-  StaticVector<GridCell, kMaxPathCells> cells_;
-  StaticVector<Vec2, kMaxWaypoints> waypoints_;
-  std::uint32_t seen_updates_ = 0;
-  StopStreak stops_;
-  Vec2 backup_from_{0.0, 0.0};
-  double spun_rad_ = 0.0, spin_last_yaw_ = 0.0;
-  Vec2 spin_at_{0.0, 0.0};  // where the revisit turns [m]
-
-  // vacuum
-  std::uint32_t rng_ = 1;
-  double turn_s_ = 0.0, turn_dir_ = 1.0;
 
   std::uint32_t cells_done_ = 0, lanes_ = 0, lanes_blocked_ = 0, revisits_ = 0, bumps_ = 0,
                 replans_ = 0, turns_left_ = 0, turns_right_ = 0, joins_ = 0;
   Fault fault_ = Fault::None;
 };
+
+// The mission of cfg.mode: a SystematicCoverage or a VacuumCoverage (init time).
+std::unique_ptr<CoverageMission> make_coverage_mission(const CoverageConfig& cfg,
+                                                       const Footprint& footprint, bool holonomic,
+                                                       const Topic<OdometryMsg>& pose,
+                                                       const Topic<CostmapMsg>& costmap,
+                                                       const OccupancyGrid& static_map);
 
 const char* coverage_state_name(CoverageMission::State s);
 

@@ -99,13 +99,6 @@ bool CoverageMission::blocked_at(const Vec2& p) const {
   return false;
 }
 
-bool CoverageMission::path_blocked_ahead(const Pose2& pose) const {
-  return fw::path_blocked_ahead(pose, waypoints_.begin(), waypoints_.size(),
-                                transit_follower_.progress() + 1, cfg_.replan_lookahead_m,
-                                0.5 * map_.resolution(), footprint_.half_width_m,
-                                [&](const Vec2& p) { return blocked_at(p); });
-}
-
 // A lethal costmap cell whose centre lies within (inscribed radius + margin) of the robot's,
 // within 60 degrees of its heading (forward) or of its back (backward). The body is taken as its
 // inscribed circle and distances between cell centres, as the planner's area and the costmap's

@@ -3,6 +3,8 @@
 // pose; the costmap is the static map's walls inflated as the firmware does, plus, in one case,
 // an obstacle the static map does not show, revealed when the robot comes within lidar range.
 #include "firmware/mission/CoverageMission.hpp"
+#include "firmware/mission/SystematicCoverage.hpp"
+#include "firmware/mission/VacuumCoverage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -144,12 +146,16 @@ struct Rig {
   std::vector<Box> hidden_;
   bool trace_ = std::getenv("COVERAGE_TRACE") != nullptr;
 
+  // The systematic mission (mode: systematic, the Rig's default).
+  const SystematicCoverage& systematic() const {
+    return static_cast<const SystematicCoverage&>(*mission);
+  }
   void start() {
-    mission = std::make_unique<CoverageMission>(cfg, Footprint{0.25, 0.25}, false, pose_topic,
-                                                costmap_topic, map);
+    mission =
+        make_coverage_mission(cfg, Footprint{0.25, 0.25}, false, pose_topic, costmap_topic, map);
     mission->enter(ctx);
-    if (trace_) {
-      const Boustrophedon& b = mission->decomposition();
+    if (trace_ && cfg.mode == CoverageMode::Systematic) {
+      const Boustrophedon& b = systematic().decomposition();
       for (std::size_t k = 0; k < b.cell_count(); ++k) {
         const CoverCell& c = b.cell(k);
         std::printf("  cell %zu: columns %d..%d, %u lanes, %u cells\n", k, c.x0, c.x1, c.lanes,
@@ -215,7 +221,7 @@ struct Rig {
       }
       if (now == CoverageMission::State::Sweep && prev != CoverageMission::State::Sweep) {
         std::size_t n = 0;
-        const Vec2* route = mission->sweep_route(n);
+        const Vec2* route = systematic().sweep_route(n);
         const Vec2 to = n > 0 ? route[0] - Vec2(pose.x, pose.y) : Vec2(0.0, 0.0);
         const double off = to.norm();
         // A robot already past the route's start along it converges onto the lane ahead.
@@ -566,8 +572,28 @@ TEST(CoverageMissionTest, AMapWithNoFreeCellFailsWithAClearErrorAndAFault) {
   TestCostmap costmap;
   Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};
   CoverageConfig cfg;
-  CoverageMission m(cfg, Footprint{0.25, 0.25}, false, pose, costmap_topic, none);
+  SystematicCoverage m(cfg, Footprint{0.25, 0.25}, false, pose, costmap_topic, none);
   EXPECT_NE(std::string(m.init_status().message()).find("no static map"), std::string::npos);
+}
+
+// The two modes are two missions on one base: make_coverage_mission() builds the mode's, and only
+// the systematic one needs a map to plan on.
+TEST(CoverageMissionTest, EachModeIsItsOwnMission) {
+  OccupancyGrid none;
+  Topic<OdometryMsg> pose;
+  TestCostmap costmap;
+  Topic<CostmapMsg> costmap_topic{CostmapMsg{&costmap}};
+  CoverageConfig cfg;
+  cfg.mode = CoverageMode::Systematic;
+  auto systematic =
+      make_coverage_mission(cfg, Footprint{0.25, 0.25}, false, pose, costmap_topic, none);
+  EXPECT_NE(dynamic_cast<SystematicCoverage*>(systematic.get()), nullptr);
+  EXPECT_FALSE(systematic->init_status().is_ok());
+  cfg.mode = CoverageMode::Vacuum;
+  auto vacuum = make_coverage_mission(cfg, Footprint{0.25, 0.25}, false, pose, costmap_topic, none);
+  EXPECT_NE(dynamic_cast<VacuumCoverage*>(vacuum.get()), nullptr);
+  EXPECT_TRUE(vacuum->init_status().is_ok());  // blind to the map: it only cannot count coverage
+  EXPECT_STREQ(vacuum->name(), "coverage");
 }
 
 TEST(CoverageMissionTest, ARobotSealedOffFromTheAreaFailsWithNoPath) {

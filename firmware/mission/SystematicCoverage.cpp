@@ -1,91 +1,102 @@
-// The coverage mission's systematic mode: planning on the static map and the costmap, transits,
-// sweeping the lanes, cutting a blocked lane, revisits. See CoverageMission.hpp.
+// The systematic coverage mission: its decomposition and tour, picking targets from the plans on
+// the static map and the costmap, transits, sweeping the lanes, cutting a blocked lane, revisits.
+// See SystematicCoverage.hpp and CoverageMission.hpp.
 #include <algorithm>
 #include <cmath>
 
 #include "firmware/mapping/CostValues.hpp"
 #include "firmware/mapping/UnsweptPatches.hpp"
-#include "firmware/mission/CoverageMission.hpp"
+#include "firmware/mission/SystematicCoverage.hpp"
 #include "firmware/planning/PathWaypoints.hpp"
 
 namespace carril::fw {
 
-namespace {
-const char* plan_phase(int purpose) {
-  static const char* const kNames[] = {"plan", "next_cell", "resume", "revisit"};
-  return kNames[purpose];
-}
-}  // namespace
-
-MissionOutput CoverageMission::next_plan(Purpose p) {
-  purpose_ = p;
-  planning_ = false;
-  go(State::Plan, plan_phase(int(p)));
-  return {};
-}
-
-MissionOutput CoverageMission::start_plan(Purpose p, const Pose2& pose) {
-  next_plan(p);
-  return plan_step(pose);
-}
-
-// One PLAN tick. The first lays the obstacles the map does not show over the static area (the
-// initial plan: the static area alone, so a passing obstacle does not shrink the area for good)
-// and seeds a wavefront at the robot; the next ones expand it within the budget; the last picks
-// the target from its distances and extracts the path.
-MissionOutput CoverageMission::plan_step(const Pose2& pose) {
-  const int nx = map_.nx(), ny = map_.ny();
-  if (!planning_) {
-    const std::size_t n = area_.size();
-    for (std::size_t k = 0; k < n; ++k) plan_costs_[k] = base_costs_[k];
-    if (purpose_ != Purpose::Initial) overlay_unmapped();
-    // The robot's cell, or (standing in inflation) the nearest passable one within 0.3 m.
-    int ri = 0, rj = 0;
-    map_.cell_of(pose.x, pose.y, ri, rj);
-    const int r = std::max(1, int(std::ceil(0.3 / map_.resolution())));
-    int si = -1, sj = -1, best = r * r + 1;
-    for (int dj = -r; dj <= r; ++dj) {
-      for (int di = -r; di <= r; ++di) {
-        const int i = ri + di, j = rj + dj;
-        if (!map_.contains(i, j) || di * di + dj * dj >= best) continue;
-        if (!cost::passable(plan_costs_[cell_index(i, j)])) continue;
-        best = di * di + dj * dj;
-        si = i;
-        sj = j;
-      }
-    }
-    if (si < 0 || planner_.start(plan_costs_.get(), nx, ny, si, sj) != WavefrontStatus::Running) {
-      return fail(Fault::NoPath);
-    }
-    planning_ = true;
-    return {};  // laying the costs and seeding are this tick's work
+SystematicCoverage::SystematicCoverage(const CoverageConfig& cfg, const Footprint& footprint,
+                                       bool holonomic, const Topic<OdometryMsg>& pose,
+                                       const Topic<CostmapMsg>& costmap,
+                                       const OccupancyGrid& static_map)
+    : CoverageMission(cfg, footprint, pose, costmap, static_map),
+      tracker_(cfg.tracker, holonomic),
+      sweep_follower_(cfg.sweep),
+      transit_follower_(cfg.transit_pursuit) {
+  if (!init_status_ || !accounting_) return;
+  const std::size_t n = area_.size();
+  const int nx = static_map.nx(), ny = static_map.ny();
+  abandoned_ = std::make_unique<std::uint8_t[]>(n);
+  // The revisits' patch measure (systematic only).
+  patch_size_ = std::make_unique<std::uint32_t[]>(n);
+  patch_queue_ = std::make_unique<std::uint32_t[]>(n);
+  BoustrophedonConfig bc;
+  bc.lane_spacing_m = cfg.tool_width_m * (1.0 - cfg.lane_overlap);
+  bc.turn_radius_m = cfg.turn_radius_m;
+  const MapInfo& info = static_map.info();
+  init_status_ = bcd_.init(nx, ny, cfg.max_cells, cfg.max_lanes);
+  if (init_status_) {
+    init_status_ = bcd_.decompose(area_.centre(), nx, ny, info.resolution_m, info.origin_x_m,
+                                  info.origin_y_m, bc);
   }
-  if (planner_.step(cfg_.plan_expansions_per_tick) == WavefrontStatus::Running) return {};
-  planning_ = false;
-  switch (purpose_) {
-    case Purpose::Initial: {
-      // The area the robot can reach; what is sealed off is no part of the job.
-      area_.keep_anchored([&](std::size_t a) {
-        return planner_.reachable(int(a % std::size_t(nx)), int(a / std::size_t(nx)));
-      });
-      coverage_.set_mask(area_.coverable());
-      if (area_.coverable_cells() == 0) return fail(Fault::NoPath);
-      if (cfg_.mode == CoverageMode::Vacuum) {
-        go(State::Spiral, "spiral");
-        return {};
-      }
-      // Drive the tour from the end nearer the robot.
-      const std::size_t n = bcd_.tour_size();
-      int i = 0, j = 0;
-      const Vec2 first = bcd_.entry_point(bcd_.tour()[0]);
-      const Vec2 last = bcd_.exit_point(bcd_.tour()[n - 1]);
-      map_.cell_of(first.x(), first.y(), i, j);
-      const float to_first = planner_.cost_to_goal(i, j);
-      map_.cell_of(last.x(), last.y(), i, j);
-      tour_reversed_ = planner_.cost_to_goal(i, j) < to_first;
-      tour_pos_ = 0;
-      return next_plan(Purpose::NextCell);
+  if (!init_status_) {
+    accounting_ = false;
+    return;
+  }
+  // Every cell's route must fit the route buffer (the longest: many lanes and their U-turns).
+  for (std::size_t k = 0; k < bcd_.cell_count(); ++k) {
+    if (!bcd_.route(CellVisit{std::uint16_t(k), 0}, route_)) {
+      init_status_ = Status::error(
+          "coverage: cell %zu of the area needs more than %zu route waypoints (cover the "
+          "area in parts: coverage.area)",
+          k, kMaxRoute);
+      accounting_ = false;
+      return;
     }
+  }
+  route_.clear();
+  // The tour starts at the map's lower-left corner; PLAN drives it backwards when its other end
+  // is nearer the robot.
+  bcd_.order(Vec2(info.origin_x_m, info.origin_y_m));
+}
+
+void SystematicCoverage::restart() {
+  tour_pos_ = 0;
+  stops_.reset();
+  if (accounting_) {
+    for (std::size_t k = 0; k < area_.size(); ++k) abandoned_[k] = 0;
+  }
+}
+
+MissionOutput SystematicCoverage::step(const MissionContext&, const Pose2& pose) {
+  switch (state_) {
+    case State::Transit:
+      return transit(pose);
+    case State::Sweep:
+      return sweep(pose);
+    case State::Spin:
+      return spin(pose);
+    case State::Reverse:
+      return reverse(pose);
+    default:
+      return {};
+  }
+}
+
+MissionOutput SystematicCoverage::begin(const Pose2&) {
+  // Drive the tour from the end nearer the robot.
+  const std::size_t n = bcd_.tour_size();
+  int i = 0, j = 0;
+  const Vec2 first = bcd_.entry_point(bcd_.tour()[0]);
+  const Vec2 last = bcd_.exit_point(bcd_.tour()[n - 1]);
+  map_.cell_of(first.x(), first.y(), i, j);
+  const float to_first = planner_.cost_to_goal(i, j);
+  map_.cell_of(last.x(), last.y(), i, j);
+  tour_reversed_ = planner_.cost_to_goal(i, j) < to_first;
+  tour_pos_ = 0;
+  return next_plan(Purpose::NextCell);
+}
+
+MissionOutput SystematicCoverage::planned(const Pose2& pose) {
+  switch (purpose_) {
+    case Purpose::Initial:
+      break;
     case Purpose::NextCell:
       if (!pick_next_cell(pose)) return next_plan(Purpose::Revisit);
       return {};
@@ -102,7 +113,7 @@ MissionOutput CoverageMission::plan_step(const Pose2& pose) {
   return {};
 }
 
-CellVisit CoverageMission::tour_visit(std::size_t k) const {
+CellVisit SystematicCoverage::tour_visit(std::size_t k) const {
   const std::size_t n = bcd_.tour_size();
   if (!tour_reversed_) return bcd_.tour()[k];
   return bcd_.reversed(bcd_.tour()[n - 1 - k]);
@@ -111,7 +122,7 @@ CellVisit CoverageMission::tour_visit(std::size_t k) const {
 // The next cell of the tour the robot can reach, entered at the corner nearest the robot by the
 // planner (where the robot stands now, which a cut lane or a skipped cell moves from where the
 // tour expected it).
-bool CoverageMission::pick_next_cell(const Pose2& pose) {
+bool SystematicCoverage::pick_next_cell(const Pose2& pose) {
   for (; tour_pos_ < bcd_.tour_size(); ++tour_pos_) {
     const CellVisit v = tour_visit(tour_pos_);
     if (swept_fraction(v.cell) >= cfg_.skip_swept_cell) {
@@ -146,7 +157,7 @@ bool CoverageMission::pick_next_cell(const Pose2& pose) {
 
 // The fraction of a decomposition cell's cells the tool has passed over. O(its columns * ny):
 // the scans of one tick add up to the map's cells at most.
-double CoverageMission::swept_fraction(std::uint16_t cell) const {
+double SystematicCoverage::swept_fraction(std::uint16_t cell) const {
   const CoverCell& c = bcd_.cell(cell);
   std::size_t swept = 0;
   for (int x = c.x0; x <= c.x1; ++x) {
@@ -157,7 +168,7 @@ double CoverageMission::swept_fraction(std::uint16_t cell) const {
   return c.area == 0 ? 1.0 : double(swept) / double(c.area);
 }
 
-bool CoverageMission::pick_resume(const Pose2& pose) {
+bool SystematicCoverage::pick_resume(const Pose2& pose) {
   (void)pose;
   const Vec2 q = route_[sweep_from_];
   int i = 0, j = 0;
@@ -181,7 +192,7 @@ bool CoverageMission::pick_resume(const Pose2& pose) {
 // The unswept cell whose anchor is nearest by the planner (each tried once). The target counts
 // what the robot can reach now: unswept cells whose anchors the costmap has sealed off (an
 // obstacle the map does not show stands there) are no part of it.
-bool CoverageMission::pick_revisit(const Pose2& pose) {
+bool SystematicCoverage::pick_revisit(const Pose2& pose) {
   (void)pose;
   if (revisits_ >= cfg_.max_revisits) return false;
   const int nx = map_.nx();
@@ -235,7 +246,7 @@ bool CoverageMission::pick_revisit(const Pose2& pose) {
 
 // A cell the planner reached (from the robot) within the tool's reach of cell k, the nearest to
 // it; -1 when none. Each cell looked at costs one from `budget`.
-std::int32_t CoverageMission::reachable_anchor(std::size_t k, long& budget) const {
+std::int32_t SystematicCoverage::reachable_anchor(std::size_t k, long& budget) const {
   const int nx = map_.nx();
   const int ci = int(k % std::size_t(nx)), cj = int(k / std::size_t(nx));
   const double reach = area_.reach_m() / map_.resolution();
@@ -257,7 +268,7 @@ std::int32_t CoverageMission::reachable_anchor(std::size_t k, long& budget) cons
 }
 
 // The path from the robot (the wavefront's seed) to cell (ti, tj), ending on `target` [m].
-bool CoverageMission::path_to(int ti, int tj, const Vec2& target) {
+bool SystematicCoverage::path_to(int ti, int tj, const Vec2& target) {
   if (planner_.extract_path(ti, tj, cells_) != PathResult::Ok) return false;
   std::reverse(cells_.begin(), cells_.end());
   const MapInfo& info = map_.info();
@@ -278,7 +289,7 @@ bool CoverageMission::path_to(int ti, int tj, const Vec2& target) {
   return true;
 }
 
-void CoverageMission::arrive(const Pose2& pose) {
+void SystematicCoverage::arrive(const Pose2& pose) {
   stops_.reset();  // got there
   if (after_transit_ == State::Spin) {
     spun_rad_ = 0.0;
@@ -297,7 +308,7 @@ void CoverageMission::arrive(const Pose2& pose) {
 // onto the lane while driving along it would run the first stretch off the lane, wider of it than
 // the lane's clearance from a wall's end beside it. Not when the point lies behind, along the
 // route: that is only a turn back.
-void CoverageMission::start_route_here(const Pose2& pose) {
+void SystematicCoverage::start_route_here(const Pose2& pose) {
   // A resumed lane starts past what blocked it: its first point is where the lane runs clear.
   if (purpose_ != Purpose::NextCell || sweep_from_ + 1 >= route_.size()) return;
   const Vec2 here(pose.x, pose.y), first = route_[sweep_from_];
@@ -312,7 +323,7 @@ void CoverageMission::start_route_here(const Pose2& pose) {
   route_[0] = here;
 }
 
-void CoverageMission::finish_cell() {
+void SystematicCoverage::finish_cell() {
   lanes_ += bcd_.cell(visit_.cell).lanes;
   ++cells_done_;
   ++tour_pos_;
@@ -325,7 +336,7 @@ void CoverageMission::finish_cell() {
 // spot. Only where the turn's centre line stays on cells the centre may stand on and clear of
 // what the costmap shows, and is still ahead of the robot. The finished cell is counted done and
 // the next one becomes the visit.
-bool CoverageMission::join_next_cell(const Pose2& pose) {
+bool SystematicCoverage::join_next_cell(const Pose2& pose) {
   const std::size_t n = route_.size();
   if (cfg_.join_max_gap_m <= 0.0 || n < sweep_from_ + 2 || bcd_.cell(visit_.cell).single_pass ||
       tour_pos_ + 1 >= bcd_.tour_size()) {
@@ -395,7 +406,7 @@ bool CoverageMission::join_next_cell(const Pose2& pose) {
 
 // Whether the route's centre line from point `from` to point `to` stays on cells where the
 // robot's centre may stand, clear of obstacles the map does not show.
-bool CoverageMission::join_clear(std::size_t from, std::size_t to) const {
+bool SystematicCoverage::join_clear(std::size_t from, std::size_t to) const {
   const double step = 0.5 * map_.resolution();
   for (std::size_t i = from; i < to; ++i) {
     const Vec2 a = route_[i], b = route_[i + 1];
@@ -410,7 +421,7 @@ bool CoverageMission::join_clear(std::size_t from, std::size_t to) const {
   return true;
 }
 
-MissionOutput CoverageMission::transit(const Pose2& pose) {
+MissionOutput SystematicCoverage::transit(const Pose2& pose) {
   if (costmap().updates() != seen_updates_) {
     seen_updates_ = costmap().updates();
     if (path_blocked_ahead(pose)) {
@@ -445,7 +456,7 @@ MissionOutput CoverageMission::transit(const Pose2& pose) {
 
 // Whether a cell within transit_edge_margin_m of p is no place for the robot's centre (the
 // static area's edge: a wall or a jamb within the inscribed radius plus that margin).
-bool CoverageMission::near_edge(const Vec2& p) const {
+bool SystematicCoverage::near_edge(const Vec2& p) const {
   int ci = 0, cj = 0;
   if (!map_.cell_of(p.x(), p.y(), ci, cj)) return true;
   const int r = int(std::ceil(cfg_.transit_edge_margin_m / map_.resolution()));
@@ -460,7 +471,7 @@ bool CoverageMission::near_edge(const Vec2& p) const {
 }
 
 // Stop, back off, plan again; after max_recoveries stops in a row the target is given up.
-MissionOutput CoverageMission::emergency_stop(const Pose2& pose) {
+MissionOutput SystematicCoverage::emergency_stop(const Pose2& pose) {
   const Vec2 here(pose.x, pose.y);
   if (stops_.too_many(here, 2.0 * cfg_.backup_m, cfg_.max_recoveries)) {
     stops_.reset();
@@ -473,7 +484,7 @@ MissionOutput CoverageMission::emergency_stop(const Pose2& pose) {
   return {};
 }
 
-MissionOutput CoverageMission::reverse(const Pose2& pose) {
+MissionOutput SystematicCoverage::reverse(const Pose2& pose) {
   const bool far_enough = (Vec2(pose.x, pose.y) - backup_from_).norm() >= cfg_.backup_m;
   if (far_enough || lethal_near(pose, cfg_.emergency_stop_m, false, false)) {
     ++replans_;
@@ -484,7 +495,7 @@ MissionOutput CoverageMission::reverse(const Pose2& pose) {
   return out;
 }
 
-MissionOutput CoverageMission::sweep(const Pose2& pose) {
+MissionOutput SystematicCoverage::sweep(const Pose2& pose) {
   // On the route's last lane: join the next cell to it where a U-turn leads into it (once per
   // last lane; a joined cell's own last lane is looked at in turn).
   if (!join_tried_ && sweep_from_ + sweep_follower_.progress() + 2 >= route_.size()) {
@@ -527,7 +538,7 @@ MissionOutput CoverageMission::sweep(const Pose2& pose) {
 // Past the blocked stretch ahead of projection `at`, the first point from which the lane runs
 // clear for resume_clear_m becomes the route's start (route_[k] moved onto it, k its segment).
 // false when the rest of the route is blocked.
-bool CoverageMission::cut_lane(const Pose2& pose, const PathProjection& at) {
+bool SystematicCoverage::cut_lane(const Pose2& pose, const PathProjection& at) {
   (void)pose;
   ++lanes_blocked_;
   const double step = 0.5 * map_.resolution();
@@ -572,7 +583,7 @@ bool CoverageMission::cut_lane(const Pose2& pose, const PathProjection& at) {
   return false;
 }
 
-MissionOutput CoverageMission::spin(const Pose2& pose) {
+MissionOutput SystematicCoverage::spin(const Pose2& pose) {
   spun_rad_ += std::fabs(wrap_angle(pose.yaw - spin_last_yaw_));
   spin_last_yaw_ = pose.yaw;
   if (spun_rad_ >= cfg_.revisit_spin_rad) {
@@ -595,6 +606,13 @@ MissionOutput CoverageMission::spin(const Pose2& pose) {
   MissionOutput out;
   out.motion.twist.wz = cfg_.spin_rate_radps;
   return out;
+}
+
+bool SystematicCoverage::path_blocked_ahead(const Pose2& pose) const {
+  return fw::path_blocked_ahead(pose, waypoints_.begin(), waypoints_.size(),
+                                transit_follower_.progress() + 1, cfg_.replan_lookahead_m,
+                                0.5 * map_.resolution(), footprint_.half_width_m,
+                                [&](const Vec2& p) { return blocked_at(p); });
 }
 
 }  // namespace carril::fw
